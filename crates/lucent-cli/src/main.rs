@@ -1,0 +1,113 @@
+//! `lucent`: render scene files from the command line.
+
+mod bench;
+mod cli;
+mod progress;
+
+use clap::Parser;
+use cli::{Cli, Command, RenderArgs};
+use lucent::film::PendingImage;
+use lucent::render::{render, RenderOptions};
+use lucent::scene::{SceneFile, SceneFormat};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// The showcase scene, built in so that `lucent render` works with no file.
+pub const BUILTIN_SCENE: &str = include_str!("../../../scenes/showcase.toml");
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => run_render(&args),
+        Command::Check { scene } => run_check(&scene),
+        Command::Bench(args) => bench::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Load a scene file, or the built-in showcase when `path` is `None`.
+pub fn load(path: Option<&Path>) -> Result<SceneFile, String> {
+    match path {
+        Some(p) => SceneFile::load(p).map_err(|e| e.to_string()),
+        None => SceneFile::parse(BUILTIN_SCENE.to_owned(), SceneFormat::Toml, Some("<built-in showcase>".into()))
+            .map_err(|e| e.to_string()),
+    }
+}
+
+/// Apply command-line overrides to a loaded scene file.
+pub fn apply_overrides(file: &mut SceneFile, args: &cli::SceneOverrides) {
+    let r = &mut file.description.render;
+    if let Some(w) = args.width {
+        r.width = lucent::scene::ImageDimension(w);
+    }
+    if let Some(h) = args.height {
+        r.height = lucent::scene::ImageDimension(h);
+    }
+    if let Some(spp) = args.spp {
+        r.spp = lucent::scene::SampleCount(spp);
+    }
+    if let Some(seed) = args.seed {
+        r.seed = seed;
+    }
+}
+
+fn run_render(args: &RenderArgs) -> Result<(), String> {
+    let mut file = load(args.scene.as_deref())?;
+    apply_overrides(&mut file, &args.overrides);
+    let scene = file.build().map_err(|e| e.to_string())?;
+
+    let out_path = args.output.clone().unwrap_or_else(|| default_output(args.scene.as_deref()));
+    // Reserve the output before rendering: a bad path fails now, not after
+    // the render, and the existing file is untouched until the new one is
+    // complete.
+    let pending = PendingImage::create(&out_path).map_err(|e| e.to_string())?;
+
+    let bar = progress::RowProgress::new(scene.camera.height() as u64, args.quiet);
+    let report = |done: usize, _total: usize| bar.set(done as u64);
+    let options = RenderOptions { threads: args.threads.filter(|&t| t > 0), progress: Some(&report) };
+    let output = render(&scene, &options).map_err(|e| e.to_string())?;
+    bar.finish();
+
+    pending.write(&output.film, scene.settings.tone_map, scene.settings.srgb).map_err(|e| e.to_string())?;
+    if !args.quiet {
+        println!(
+            "{}: {}×{}, {} spp, {:.2} s, {:.1} M rays, {:.2} Mrays/s",
+            out_path.display(),
+            scene.camera.width(),
+            scene.camera.height(),
+            scene.settings.spp,
+            output.elapsed.as_secs_f64(),
+            output.stats.total() as f64 / 1e6,
+            output.mrays_per_second()
+        );
+    }
+    Ok(())
+}
+
+fn run_check(path: &Path) -> Result<(), String> {
+    let scene = SceneFile::load(path).and_then(|f| f.build()).map_err(|e| e.to_string())?;
+    println!(
+        "{}: ok ({} objects, {} materials, {} lights, {}×{}, {} spp)",
+        path.display(),
+        scene.primitives().len(),
+        scene.materials().len(),
+        scene.lights().len(),
+        scene.camera.width(),
+        scene.camera.height(),
+        scene.settings.spp
+    );
+    Ok(())
+}
+
+fn default_output(scene: Option<&Path>) -> PathBuf {
+    let stem = scene.and_then(|p| p.file_stem()).map_or_else(|| "showcase".into(), |s| s.to_os_string());
+    let mut name = PathBuf::from(stem);
+    name.set_extension("png");
+    name
+}

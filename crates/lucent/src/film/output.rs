@@ -1,0 +1,140 @@
+use super::{Film, ToneMap};
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// Image file formats, chosen by the output file's extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    /// `.png`: 8-bit sRGB (by default), tone mapped.
+    Png,
+    /// `.bmp`: 8-bit sRGB (by default), tone mapped.
+    Bmp,
+    /// `.exr`: OpenEXR, linear 32-bit float radiance before tone mapping.
+    Exr,
+}
+
+/// Problems writing an image.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// The extension is not one lucent writes.
+    #[error("cannot write '{path}': unknown image extension (accepted: .png, .bmp, .exr)")]
+    UnknownExtension {
+        /// The output path.
+        path: PathBuf,
+    },
+    /// The output's directory cannot take a new file.
+    #[error("cannot write '{path}': {source}")]
+    Io {
+        /// The output path.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The encoder failed.
+    #[error("cannot encode '{path}': {source}")]
+    Encode {
+        /// The output path.
+        path: PathBuf,
+        /// The cause.
+        source: image::ImageError,
+    },
+}
+
+impl ImageFormat {
+    /// The format for a path's extension (case-insensitive).
+    pub fn from_path(path: &Path) -> Result<Self, OutputError> {
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("png") => Ok(ImageFormat::Png),
+            Some("bmp") => Ok(ImageFormat::Bmp),
+            Some("exr") => Ok(ImageFormat::Exr),
+            _ => Err(OutputError::UnknownExtension { path: path.to_owned() }),
+        }
+    }
+}
+
+/// An output image reserved before rendering and written after it.
+///
+/// Creating it checks the extension and creates a temporary file beside the
+/// destination, so an unwritable location fails before any rendering time is
+/// spent. [`PendingImage::write`] encodes into the temporary file and then
+/// renames it over the destination: a reader never sees a partial image, and
+/// if anything fails the existing file at the destination is untouched. A
+/// dropped `PendingImage` removes its temporary file.
+#[derive(Debug)]
+pub struct PendingImage {
+    path: PathBuf,
+    format: ImageFormat,
+    temp: tempfile::NamedTempFile,
+}
+
+impl PendingImage {
+    /// Reserve `path` for an image.
+    pub fn create(path: impl AsRef<Path>) -> Result<Self, OutputError> {
+        let path = path.as_ref().to_owned();
+        let format = ImageFormat::from_path(&path)?;
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
+            _ => PathBuf::from("."),
+        };
+        if path.is_dir() {
+            return Err(OutputError::Io {
+                path,
+                source: std::io::Error::new(std::io::ErrorKind::IsADirectory, "it is a directory"),
+            });
+        }
+        let temp = tempfile::Builder::new()
+            .prefix(".lucent-")
+            .suffix(".tmp")
+            .tempfile_in(&dir)
+            .map_err(|source| OutputError::Io { path: path.clone(), source })?;
+        Ok(Self { path, format, temp })
+    }
+
+    /// The destination path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The format, from the extension.
+    pub fn format(&self) -> ImageFormat {
+        self.format
+    }
+
+    /// Encode `film` and move it into place.
+    pub fn write(mut self, film: &Film, tone_map: ToneMap, srgb: bool) -> Result<(), OutputError> {
+        let (w, h) = (film.width(), film.height());
+        let path = self.path.clone();
+        let encode = |source| OutputError::Encode { path: path.clone(), source };
+        let io = |source| OutputError::Io { path: path.clone(), source };
+        {
+            let mut out = BufWriter::new(self.temp.as_file_mut());
+            match self.format {
+                ImageFormat::Png | ImageFormat::Bmp => {
+                    let buf = image::RgbImage::from_raw(w, h, film.to_rgb8(tone_map, srgb))
+                        .expect("buffer size matches the film");
+                    let fmt =
+                        if self.format == ImageFormat::Png { image::ImageFormat::Png } else { image::ImageFormat::Bmp };
+                    image::DynamicImage::ImageRgb8(buf).write_to(&mut out, fmt).map_err(encode)?;
+                }
+                ImageFormat::Exr => {
+                    let data: Vec<f32> = film.pixels().iter().flat_map(|c| c.to_array()).collect();
+                    let buf = image::Rgb32FImage::from_raw(w, h, data).expect("buffer size matches the film");
+                    image::DynamicImage::ImageRgb32F(buf)
+                        .write_to(&mut out, image::ImageFormat::OpenExr)
+                        .map_err(encode)?;
+                }
+            }
+            out.flush().map_err(io)?;
+        }
+        self.temp.as_file().sync_all().map_err(io)?;
+        // Temporary files are created private (0600); an image is not secret.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            std::fs::set_permissions(self.temp.path(), std::fs::Permissions::from_mode(0o644)).map_err(io)?;
+        }
+        self.temp.persist(&self.path).map_err(|e| io(e.error))?;
+        Ok(())
+    }
+}

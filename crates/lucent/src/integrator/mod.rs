@@ -1,0 +1,44 @@
+//! Integrators: light transport. An integrator answers "how much light
+//! arrives along this ray?" using the scene's geometry, materials and
+//! lights. This release has the classic Whitted integrator; a path tracer
+//! will sit beside it behind the same trait.
+
+mod whitted;
+
+pub use whitted::WhittedIntegrator;
+
+use crate::color::Color;
+use crate::geometry::Ray;
+use crate::scene::Scene;
+
+/// Counts of rays traced, by kind.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RayStats {
+    /// Rays from the camera.
+    pub camera: u64,
+    /// Shadow (visibility) rays towards lights.
+    pub shadow: u64,
+    /// Secondary rays (mirror reflections).
+    pub secondary: u64,
+}
+
+impl RayStats {
+    /// All rays traced.
+    pub fn total(&self) -> u64 {
+        self.camera + self.shadow + self.secondary
+    }
+
+    /// Add another tally to this one.
+    pub fn merge(&mut self, other: &RayStats) {
+        self.camera += other.camera;
+        self.shadow += other.shadow;
+        self.secondary += other.secondary;
+    }
+}
+
+/// Computes the radiance arriving along a camera ray.
+pub trait Integrator: Sync {
+    /// Radiance arriving at the ray's origin from along `-ray.dir`, in linear
+    /// RGB. `stats` counts the rays traced.
+    fn li(&self, scene: &Scene, ray: &Ray, stats: &mut RayStats) -> Color;
+}

@@ -1,0 +1,13 @@
+//! Random numbers and sample patterns.
+//!
+//! Every pixel draws its samples from its own generator, seeded from the
+//! scene seed and the pixel's coordinates alone, so an image does not depend
+//! on how pixels are distributed over threads.
+
+mod pattern;
+mod rng;
+mod warp;
+
+pub use pattern::{stratified_2d, PixelSampler};
+pub use rng::{mix_seed, Pcg32};
+pub use warp::concentric_disk;

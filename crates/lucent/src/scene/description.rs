@@ -1,0 +1,599 @@
+//! The scene file format, as Rust types. A TOML or JSON scene file
+//! deserialises into [`SceneDescription`]; every key is documented in
+//! `docs/scene-format.md`. Unknown keys are errors.
+//!
+//! Values with a range (a radius, a field of view, a colour) are checked as
+//! they are read, so an error points at the offending value in the file.
+
+use serde::{de::Error as _, Deserialize, Deserializer};
+use std::collections::BTreeMap;
+
+macro_rules! checked_f32 {
+    ($(#[$doc:meta])* $name:ident, $ok:expr, $what:literal) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub struct $name(f32);
+
+        impl $name {
+            /// The value.
+            pub fn get(self) -> f32 {
+                self.0
+            }
+        }
+
+        impl TryFrom<f32> for $name {
+            type Error = String;
+            fn try_from(v: f32) -> Result<Self, String> {
+                let ok: fn(f32) -> bool = $ok;
+                if v.is_finite() && ok(v) {
+                    Ok(Self(v))
+                } else {
+                    Err(format!(concat!("expected ", $what, ", got {}"), v))
+                }
+            }
+        }
+
+        impl<'de> Deserialize<'de> for $name {
+            fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                Self::try_from(f32::deserialize(d)?).map_err(D::Error::custom)
+            }
+        }
+    };
+}
+
+checked_f32!(
+    /// A finite number > 0.
+    Positive, |v| v > 0.0, "a number > 0"
+);
+checked_f32!(
+    /// A finite number ≥ 0.
+    NonNegative, |v| v >= 0.0, "a number ≥ 0"
+);
+checked_f32!(
+    /// A field of view in degrees, strictly between 0 and 180.
+    FieldOfView, |v| v > 0.0 && v < 180.0, "a field of view strictly between 0 and 180 degrees"
+);
+checked_f32!(
+    /// Any finite number.
+    Finite, |_| true, "a finite number"
+);
+
+/// Three finite numbers: a point or a free vector.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vec3Desc(pub [f32; 3]);
+
+impl<'de> Deserialize<'de> for Vec3Desc {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = <[f32; 3]>::deserialize(d)?;
+        if v.iter().all(|c| c.is_finite()) {
+            Ok(Self(v))
+        } else {
+            Err(D::Error::custom("expected three finite numbers [x, y, z]"))
+        }
+    }
+}
+
+impl From<Vec3Desc> for glam::Vec3 {
+    fn from(v: Vec3Desc) -> Self {
+        glam::Vec3::from_array(v.0)
+    }
+}
+
+/// Three finite numbers, not all zero: a direction or a normal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Direction(pub [f32; 3]);
+
+impl<'de> Deserialize<'de> for Direction {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Vec3Desc::deserialize(d)?.0;
+        if v.iter().all(|&c| c == 0.0) {
+            Err(D::Error::custom("a direction or normal must not be [0, 0, 0]"))
+        } else {
+            Ok(Self(v))
+        }
+    }
+}
+
+impl From<Direction> for glam::Vec3 {
+    fn from(v: Direction) -> Self {
+        glam::Vec3::from_array(v.0)
+    }
+}
+
+/// A linear RGB colour: three finite numbers ≥ 0 (values above 1 are
+/// allowed: they are radiance, not display values).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rgb(pub [f32; 3]);
+
+impl<'de> Deserialize<'de> for Rgb {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = <[f32; 3]>::deserialize(d)?;
+        if v.iter().all(|c| c.is_finite() && *c >= 0.0) {
+            Ok(Self(v))
+        } else {
+            Err(D::Error::custom("expected a colour [r, g, b] of finite numbers ≥ 0"))
+        }
+    }
+}
+
+impl From<Rgb> for glam::Vec3 {
+    fn from(v: Rgb) -> Self {
+        glam::Vec3::from_array(v.0)
+    }
+}
+
+/// An image dimension: 1 to 65,536 pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ImageDimension(pub u32);
+
+impl<'de> Deserialize<'de> for ImageDimension {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = i64::deserialize(d)?;
+        if (1..=crate::film::MAX_DIMENSION as i64).contains(&v) {
+            Ok(Self(v as u32))
+        } else {
+            Err(D::Error::custom(format!(
+                "expected an image size from 1 to {} pixels, got {v}",
+                crate::film::MAX_DIMENSION
+            )))
+        }
+    }
+}
+
+/// Samples per pixel: at least 1, at most 1,048,576.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SampleCount(pub u32);
+
+/// Largest samples-per-pixel count accepted.
+pub const MAX_SPP: u32 = 1 << 20;
+
+impl<'de> Deserialize<'de> for SampleCount {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = i64::deserialize(d)?;
+        if (1..=MAX_SPP as i64).contains(&v) {
+            Ok(Self(v as u32))
+        } else {
+            Err(D::Error::custom(format!("expected samples per pixel from 1 to {MAX_SPP}, got {v}")))
+        }
+    }
+}
+
+/// A whole scene file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDescription {
+    /// The camera.
+    pub camera: CameraDesc,
+    /// Image and sampling settings.
+    #[serde(default)]
+    pub render: RenderDesc,
+    /// Ambient light.
+    #[serde(default)]
+    pub ambient: Option<AmbientDesc>,
+    /// Named materials.
+    #[serde(default)]
+    pub materials: BTreeMap<String, MaterialDesc>,
+    /// Point lights.
+    #[serde(default)]
+    pub point_light: Vec<PointLightDesc>,
+    /// Spot lights.
+    #[serde(default)]
+    pub spot_light: Vec<SpotLightDesc>,
+    /// Directional lights.
+    #[serde(default)]
+    pub directional_light: Vec<DirectionalLightDesc>,
+    /// Spheres.
+    #[serde(default)]
+    pub sphere: Vec<SphereDesc>,
+    /// Planes.
+    #[serde(default)]
+    pub plane: Vec<PlaneDesc>,
+    /// Triangles.
+    #[serde(default)]
+    pub triangle: Vec<TriangleDesc>,
+    /// Groups of objects with a shared transform.
+    #[serde(default)]
+    pub group: Vec<GroupDesc>,
+}
+
+/// The `[camera]` table.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    /// Eye position.
+    pub eye: Vec3Desc,
+    /// The point looked at (the centre of the image).
+    pub look_at: Vec3Desc,
+    /// Up direction (default `[0, 1, 0]`).
+    #[serde(default = "default_up")]
+    pub up: Direction,
+    /// Horizontal field of view in degrees (default 60).
+    #[serde(default = "default_fov")]
+    pub fov: FieldOfView,
+    /// Lens radius for depth of field (default 0: a pinhole).
+    #[serde(default)]
+    pub lens_radius: Option<NonNegative>,
+    /// Distance to the plane of focus (default: eye to look_at).
+    #[serde(default)]
+    pub focal_distance: Option<Positive>,
+}
+
+fn default_up() -> Direction {
+    Direction([0.0, 1.0, 0.0])
+}
+fn default_fov() -> FieldOfView {
+    FieldOfView(60.0)
+}
+
+/// Tone-mapping operators, as named in scene files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ToneMapDesc {
+    /// Divide by the largest channel when it exceeds 1.
+    #[default]
+    Classic,
+    /// Clamp each channel.
+    Clamp,
+    /// Reinhard on luminance.
+    Reinhard,
+    /// ACES filmic fit.
+    Aces,
+}
+
+/// The `[render]` table.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RenderDesc {
+    /// Image width in pixels (default 640).
+    #[serde(default = "default_width")]
+    pub width: ImageDimension,
+    /// Image height in pixels (default 480).
+    #[serde(default = "default_height")]
+    pub height: ImageDimension,
+    /// Samples per pixel (default 16).
+    #[serde(default = "default_spp")]
+    pub spp: SampleCount,
+    /// Most mirror bounces (default 5).
+    #[serde(default = "default_max_depth")]
+    pub max_depth: u32,
+    /// Background radiance (default black).
+    #[serde(default = "default_background")]
+    pub background: Rgb,
+    /// Tone mapping for 8-bit output (default `classic`).
+    #[serde(default)]
+    pub tone_map: ToneMapDesc,
+    /// sRGB-encode 8-bit output (default true).
+    #[serde(default = "default_true")]
+    pub srgb: bool,
+    /// Random seed (default 0).
+    #[serde(default)]
+    pub seed: u64,
+}
+
+fn default_width() -> ImageDimension {
+    ImageDimension(640)
+}
+fn default_height() -> ImageDimension {
+    ImageDimension(480)
+}
+fn default_spp() -> SampleCount {
+    SampleCount(16)
+}
+fn default_max_depth() -> u32 {
+    5
+}
+fn default_background() -> Rgb {
+    Rgb([0.0; 3])
+}
+fn default_true() -> bool {
+    true
+}
+
+impl Default for RenderDesc {
+    fn default() -> Self {
+        Self {
+            width: default_width(),
+            height: default_height(),
+            spp: default_spp(),
+            max_depth: default_max_depth(),
+            background: default_background(),
+            tone_map: ToneMapDesc::default(),
+            srgb: true,
+            seed: 0,
+        }
+    }
+}
+
+/// The `[ambient]` table.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AmbientDesc {
+    /// Colour (default white).
+    #[serde(default = "white")]
+    pub color: Rgb,
+    /// Multiplier (default 1).
+    #[serde(default = "one")]
+    pub intensity: NonNegative,
+}
+
+fn white() -> Rgb {
+    Rgb([1.0; 3])
+}
+fn one() -> NonNegative {
+    NonNegative(1.0)
+}
+
+/// A checkerboard colour.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CheckerDesc {
+    /// Colour of the square at the origin.
+    pub even: Rgb,
+    /// The other colour.
+    pub odd: Rgb,
+    /// Side of a square in texture units (default 1).
+    #[serde(default = "positive_one")]
+    pub scale: Positive,
+}
+
+fn positive_one() -> Positive {
+    Positive(1.0)
+}
+
+/// A material: `[materials.NAME.matte]` or `[materials.NAME.phong]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum MaterialDesc {
+    /// Lambertian.
+    Matte(MatteDesc),
+    /// Phong with mirror reflection.
+    Phong(PhongDesc),
+}
+
+/// Keys of a matte material.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MatteDesc {
+    /// Colour (default white); or use `checker`.
+    #[serde(default)]
+    pub color: Option<Rgb>,
+    /// A checkerboard instead of a plain colour.
+    #[serde(default)]
+    pub checker: Option<CheckerDesc>,
+    /// Diffuse coefficient (default 1).
+    #[serde(default = "one")]
+    pub kd: NonNegative,
+    /// Ambient coefficient (default: kd).
+    #[serde(default)]
+    pub ka: Option<NonNegative>,
+}
+
+/// Keys of a Phong material.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhongDesc {
+    /// Colour (default white); or use `checker`.
+    #[serde(default)]
+    pub color: Option<Rgb>,
+    /// A checkerboard instead of a plain colour.
+    #[serde(default)]
+    pub checker: Option<CheckerDesc>,
+    /// Diffuse coefficient (default 1).
+    #[serde(default = "one")]
+    pub kd: NonNegative,
+    /// Ambient coefficient (default: kd).
+    #[serde(default)]
+    pub ka: Option<NonNegative>,
+    /// Specular coefficient (default 0.5).
+    #[serde(default = "half")]
+    pub ks: NonNegative,
+    /// Phong exponent (default 20).
+    #[serde(default = "twenty")]
+    pub exponent: NonNegative,
+    /// Mirror reflectivity (default 0).
+    #[serde(default)]
+    pub kr: Option<NonNegative>,
+}
+
+fn half() -> NonNegative {
+    NonNegative(0.5)
+}
+fn twenty() -> NonNegative {
+    NonNegative(20.0)
+}
+
+/// Distance falloff of point and spot lights.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FalloffDesc {
+    /// Constant.
+    None,
+    /// `1/d²`.
+    InverseSquare,
+}
+
+/// A `[[point_light]]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointLightDesc {
+    /// Position.
+    pub position: Vec3Desc,
+    /// Colour (default white).
+    #[serde(default = "white")]
+    pub color: Rgb,
+    /// Intensity (default 1).
+    #[serde(default = "one")]
+    pub intensity: NonNegative,
+    /// Falloff (default `none`).
+    #[serde(default)]
+    pub falloff: Option<FalloffDesc>,
+}
+
+/// A `[[spot_light]]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpotLightDesc {
+    /// Position.
+    pub position: Vec3Desc,
+    /// Axis of the cone.
+    pub direction: Direction,
+    /// Colour (default white).
+    #[serde(default = "white")]
+    pub color: Rgb,
+    /// Intensity on the axis (default 1).
+    #[serde(default = "one")]
+    pub intensity: NonNegative,
+    /// Cone half-angle in degrees (default 30).
+    #[serde(default = "thirty")]
+    pub angle: Positive,
+    /// Width of the smooth edge, degrees (default 5, at most `angle`).
+    #[serde(default = "five")]
+    pub cone_delta: NonNegative,
+    /// Falloff (default `inverse_square`).
+    #[serde(default)]
+    pub falloff: Option<FalloffDesc>,
+}
+
+fn thirty() -> Positive {
+    Positive(30.0)
+}
+fn five() -> NonNegative {
+    NonNegative(5.0)
+}
+
+/// A `[[directional_light]]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DirectionalLightDesc {
+    /// The direction the light travels.
+    pub direction: Direction,
+    /// Colour (default white).
+    #[serde(default = "white")]
+    pub color: Rgb,
+    /// Intensity (default 1).
+    #[serde(default = "one")]
+    pub intensity: NonNegative,
+}
+
+/// One step of a transform list; the list is applied in the order written.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum TransformOp {
+    /// Move by `[x, y, z]`.
+    Translate(Vec3Desc),
+    /// Scale by `[x, y, z]` (no zero components).
+    Scale(Vec3Desc),
+    /// Rotate about x, degrees.
+    RotateX(Finite),
+    /// Rotate about y, degrees.
+    RotateY(Finite),
+    /// Rotate about z, degrees.
+    RotateZ(Finite),
+    /// Rotate about an axis.
+    Rotate(AxisAngle),
+    /// A general affine matrix, four rows of four, acting on column vectors.
+    Matrix([[f32; 4]; 4]),
+}
+
+/// Axis and angle of a general rotation.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxisAngle {
+    /// Rotation axis.
+    pub axis: Direction,
+    /// Angle in degrees (right-handed about the axis).
+    pub angle: Finite,
+}
+
+/// A `[[sphere]]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereDesc {
+    /// Optional name for messages.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Centre (default origin).
+    #[serde(default = "origin")]
+    pub center: Vec3Desc,
+    /// Radius (default 1).
+    #[serde(default = "positive_one")]
+    pub radius: Positive,
+    /// Material name (default: the enclosing group's).
+    #[serde(default)]
+    pub material: Option<String>,
+    /// Object transform.
+    #[serde(default)]
+    pub transform: Vec<TransformOp>,
+}
+
+fn origin() -> Vec3Desc {
+    Vec3Desc([0.0; 3])
+}
+
+/// A `[[plane]]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneDesc {
+    /// Optional name for messages.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// A point on the plane (default origin).
+    #[serde(default = "origin")]
+    pub point: Vec3Desc,
+    /// Normal (default `[0, 1, 0]`).
+    #[serde(default = "default_up")]
+    pub normal: Direction,
+    /// Material name.
+    #[serde(default)]
+    pub material: Option<String>,
+    /// Object transform.
+    #[serde(default)]
+    pub transform: Vec<TransformOp>,
+}
+
+/// A `[[triangle]]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TriangleDesc {
+    /// Optional name for messages.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// The three corners, counter-clockwise seen from the front.
+    pub vertices: [Vec3Desc; 3],
+    /// Per-corner normals for smooth shading.
+    #[serde(default)]
+    pub normals: Option<[Direction; 3]>,
+    /// Material name.
+    #[serde(default)]
+    pub material: Option<String>,
+    /// Object transform.
+    #[serde(default)]
+    pub transform: Vec<TransformOp>,
+}
+
+/// A `[[group]]`: objects (and groups) sharing a transform.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroupDesc {
+    /// Optional name for messages.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Applied to every member, after the member's own transform.
+    #[serde(default)]
+    pub transform: Vec<TransformOp>,
+    /// Default material of members that name none.
+    #[serde(default)]
+    pub material: Option<String>,
+    /// Member spheres.
+    #[serde(default)]
+    pub sphere: Vec<SphereDesc>,
+    /// Member planes.
+    #[serde(default)]
+    pub plane: Vec<PlaneDesc>,
+    /// Member triangles.
+    #[serde(default)]
+    pub triangle: Vec<TriangleDesc>,
+    /// Nested groups.
+    #[serde(default)]
+    pub group: Vec<GroupDesc>,
+}

@@ -1,0 +1,425 @@
+//! Reading scene files (TOML or JSON) and building [`Scene`]s from them.
+
+use super::description::*;
+use super::error::{SceneError, SourceLocation};
+use super::{MaterialId, Primitive, Scene};
+use crate::camera::{Camera, ThinLens};
+use crate::color::Color;
+use crate::film::{check_image_size, ToneMap};
+use crate::geometry::{Mat4, Transform, Vec3};
+use crate::light::{Falloff, Light};
+use crate::material::Material;
+use crate::render::RenderSettings;
+use crate::shapes::{Plane, Shape, Sphere, Triangle};
+use crate::texture::Texture;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// The two scene syntaxes; the structure is the same.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneFormat {
+    /// TOML (`.toml`).
+    Toml,
+    /// JSON (`.json`).
+    Json,
+}
+
+impl SceneFormat {
+    /// The format for a file name, by extension.
+    pub fn from_path(path: &Path) -> Option<Self> {
+        match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+            "toml" => Some(SceneFormat::Toml),
+            "json" => Some(SceneFormat::Json),
+            _ => None,
+        }
+    }
+}
+
+/// A parsed scene file: its description plus the source text, kept for
+/// error messages while the scene is built.
+#[derive(Clone, Debug)]
+pub struct SceneFile {
+    /// Where it came from.
+    pub path: Option<PathBuf>,
+    /// The file's text.
+    pub source: String,
+    /// The parsed description; may be edited (e.g. command-line overrides)
+    /// before [`SceneFile::build`].
+    pub description: SceneDescription,
+}
+
+/// Load and build a scene file (`.toml` or `.json`).
+pub fn load_scene(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+    SceneFile::load(path)?.build()
+}
+
+/// Parse and build a scene from text.
+///
+/// ```
+/// use lucent::scene::{parse_scene, SceneFormat};
+/// let scene = parse_scene(r#"
+///     [camera]
+///     eye = [0, 0, -5]
+///     look_at = [0, 0, 0]
+///     [materials.red.matte]
+///     color = [1, 0, 0]
+///     [[sphere]]
+///     radius = 1
+///     material = "red"
+/// "#, SceneFormat::Toml).unwrap();
+/// assert_eq!(scene.primitives().len(), 1);
+/// ```
+pub fn parse_scene(source: &str, format: SceneFormat) -> Result<Scene, SceneError> {
+    SceneFile::parse(source.to_owned(), format, None)?.build()
+}
+
+impl SceneFile {
+    /// Read and parse a file; the format follows the extension.
+    pub fn load(path: impl AsRef<Path>) -> Result<Self, SceneError> {
+        let path = path.as_ref();
+        let owned = Some(path.to_owned());
+        let format = SceneFormat::from_path(path)
+            .ok_or_else(|| SceneError::new(owned.clone(), "unknown scene file extension (accepted: .toml, .json)"))?;
+        let bytes = std::fs::read(path)
+            .map_err(|e| SceneError::new(owned.clone(), format!("cannot read the scene file: {}", io_reason(&e))))?;
+        let source = String::from_utf8(bytes).map_err(|e| {
+            let loc = SourceLocation::from_offset("", 0);
+            let valid = e.utf8_error().valid_up_to();
+            let text = String::from_utf8_lossy(&e.as_bytes()[..valid]).into_owned();
+            let loc = if text.is_empty() { loc } else { SourceLocation::from_offset(&text, valid) };
+            SceneError::at(owned.clone(), &text, Some(loc), "the file is not valid UTF-8 text")
+        })?;
+        Self::parse(source, format, owned)
+    }
+
+    /// Parse scene text.
+    pub fn parse(source: String, format: SceneFormat, path: Option<PathBuf>) -> Result<Self, SceneError> {
+        let description = match format {
+            SceneFormat::Toml => toml::from_str::<SceneDescription>(&source).map_err(|e| {
+                let loc = e.span().map(|s| SourceLocation::from_offset(&source, s.start));
+                SceneError::at(path.clone(), &source, loc, e.message().trim_end())
+            })?,
+            SceneFormat::Json => serde_json::from_str::<SceneDescription>(&source).map_err(|e| {
+                let full = e.to_string();
+                let message = match full.rfind(" at line ") {
+                    Some(i) => full[..i].to_owned(),
+                    None => full,
+                };
+                let loc = (e.line() > 0).then(|| SourceLocation { line: e.line(), column: e.column().max(1) });
+                SceneError::at(path.clone(), &source, loc, message)
+            })?,
+        };
+        Ok(Self { path, source, description })
+    }
+
+    fn error(&self, location: Option<SourceLocation>, message: impl Into<String>) -> SceneError {
+        SceneError::at(self.path.clone(), &self.source, location, message)
+    }
+
+    /// Validate the description and build the scene.
+    pub fn build(&self) -> Result<Scene, SceneError> {
+        let d = &self.description;
+        let r = &d.render;
+        let (w, h) = (r.width.0, r.height.0);
+        check_image_size(w, h).map_err(|e| self.error(find_key(&self.source, "width", 0), e.to_string()))?;
+
+        let c = &d.camera;
+        let mut camera = Camera::new(c.eye.into(), c.look_at.into(), c.up.into(), c.fov.get(), w, h)
+            .map_err(|e| self.error(find_key(&self.source, "camera", 0), format!("[camera]: {e}")))?;
+        if let Some(radius) = c.lens_radius {
+            let focal_distance =
+                c.focal_distance.map_or_else(|| (Vec3::from(c.look_at) - Vec3::from(c.eye)).length(), |f| f.get());
+            camera = camera
+                .with_lens(ThinLens { radius: radius.get(), focal_distance })
+                .map_err(|e| self.error(find_key(&self.source, "lens_radius", 0), e.to_string()))?;
+        } else if c.focal_distance.is_some() {
+            return Err(self.error(
+                find_key(&self.source, "focal_distance", 0),
+                "focal_distance needs lens_radius (a pinhole camera has everything in focus)",
+            ));
+        }
+
+        let mut scene = Scene::new(camera);
+        scene.settings = RenderSettings {
+            spp: r.spp.0,
+            max_depth: r.max_depth,
+            background: r.background.into(),
+            tone_map: match r.tone_map {
+                ToneMapDesc::Classic => ToneMap::Classic,
+                ToneMapDesc::Clamp => ToneMap::Clamp,
+                ToneMapDesc::Reinhard => ToneMap::Reinhard,
+                ToneMapDesc::Aces => ToneMap::Aces,
+            },
+            srgb: r.srgb,
+            seed: r.seed,
+        };
+        if let Some(a) = &d.ambient {
+            scene.ambient = Color::from(a.color) * a.intensity.get();
+        }
+
+        let mut ids = HashMap::new();
+        for (name, m) in &d.materials {
+            let material = self.material(name, m)?;
+            ids.insert(name.as_str(), scene.add_material(material));
+        }
+
+        for l in &d.point_light {
+            let falloff = falloff(l.falloff, Falloff::None);
+            scene.add_light(
+                Light::point(l.position.into(), l.color.into(), l.intensity.get(), falloff)
+                    .map_err(|e| self.error(None, format!("point_light: {e}")))?,
+            );
+        }
+        for (i, l) in d.spot_light.iter().enumerate() {
+            let falloff = falloff(l.falloff, Falloff::InverseSquare);
+            let light = Light::spot(
+                l.position.into(),
+                l.direction.into(),
+                l.color.into(),
+                l.intensity.get(),
+                l.angle.get(),
+                l.cone_delta.get().min(l.angle.get()),
+                falloff,
+            )
+            .map_err(|e| self.error(find_key(&self.source, "angle", i), format!("spot_light: {e}")))?;
+            scene.add_light(light);
+        }
+        for l in &d.directional_light {
+            scene.add_light(
+                Light::directional(l.direction.into(), l.color.into(), l.intensity.get())
+                    .map_err(|e| self.error(None, format!("directional_light: {e}")))?,
+            );
+        }
+
+        let root = GroupDesc {
+            name: None,
+            transform: Vec::new(),
+            material: None,
+            sphere: d.sphere.clone(),
+            plane: d.plane.clone(),
+            triangle: d.triangle.clone(),
+            group: d.group.clone(),
+        };
+        self.add_group(&mut scene, &ids, &root, Transform::IDENTITY, None, "")?;
+        Ok(scene)
+    }
+
+    fn material(&self, name: &str, m: &MaterialDesc) -> Result<Material, SceneError> {
+        let at = || find_table(&self.source, name);
+        let texture = |color: &Option<Rgb>, checker: &Option<CheckerDesc>| match (color, checker) {
+            (Some(_), Some(_)) => {
+                Err(self.error(at(), format!("material \"{name}\" has both `color` and `checker`; give one")))
+            }
+            (Some(c), None) => Ok(Texture::Constant((*c).into())),
+            (None, Some(ch)) => {
+                Ok(Texture::Checker { even: ch.even.into(), odd: ch.odd.into(), scale: ch.scale.get() })
+            }
+            (None, None) => Ok(Texture::Constant(Color::ONE)),
+        };
+        let m = match m {
+            MaterialDesc::Matte(m) => {
+                let mut mat = Material::matte(texture(&m.color, &m.checker)?, m.kd.get());
+                if let (Ok(x), Some(ka)) = (&mut mat, m.ka) {
+                    x.ka = ka.get();
+                }
+                mat
+            }
+            MaterialDesc::Phong(p) => {
+                let mut mat = Material::phong(
+                    texture(&p.color, &p.checker)?,
+                    p.kd.get(),
+                    p.ks.get(),
+                    p.exponent.get(),
+                    p.kr.map_or(0.0, NonNegative::get),
+                );
+                if let (Ok(x), Some(ka)) = (&mut mat, p.ka) {
+                    x.ka = ka.get();
+                }
+                mat
+            }
+        };
+        m.map_err(|e| self.error(at(), format!("material \"{name}\": {e}")))
+    }
+
+    fn add_group(
+        &self,
+        scene: &mut Scene,
+        ids: &HashMap<&str, MaterialId>,
+        group: &GroupDesc,
+        parent: Transform,
+        parent_material: Option<&str>,
+        label: &str,
+    ) -> Result<(), SceneError> {
+        let group_transform = self.transform(&group.transform, label)?.then(&parent);
+        let material = group.material.as_deref().or(parent_material);
+        let add = |kind: &str,
+                   index: usize,
+                   name: &Option<String>,
+                   shape: Result<Shape, crate::shapes::ShapeError>,
+                   own_material: &Option<String>,
+                   ops: &[TransformOp],
+                   scene: &mut Scene|
+         -> Result<(), SceneError> {
+            let what = describe(label, kind, index, name);
+            // Top-level objects are the n-th `[[kind]]` table of the file;
+            // nested ones are identified by their path in the message.
+            let at = if label.is_empty() { nth_table(&self.source, kind, index) } else { None };
+            let shape = shape.map_err(|e| self.error(at, format!("{what}: {e}")))?;
+            let material_name = own_material.as_deref().or(material).ok_or_else(|| {
+                self.error(at, format!("{what} has no material (set `material`, or one on its group)"))
+            })?;
+            let id = *ids.get(material_name).ok_or_else(|| {
+                let mut known: Vec<&str> = ids.keys().copied().collect();
+                known.sort_unstable();
+                let known = if known.is_empty() { "none".to_owned() } else { known.join(", ") };
+                self.error(
+                    find_value(&self.source, "material", material_name),
+                    format!("{what}: material \"{material_name}\" is not defined (defined: {known})"),
+                )
+            })?;
+            let t = self.transform(ops, &what)?.then(&group_transform);
+            scene.add(Primitive::new(shape, t, id));
+            Ok(())
+        };
+        for (i, s) in group.sphere.iter().enumerate() {
+            let shape = Sphere::new(s.center.into(), s.radius.get()).map(Shape::from);
+            add("sphere", i, &s.name, shape, &s.material, &s.transform, scene)?;
+        }
+        for (i, p) in group.plane.iter().enumerate() {
+            let shape = Plane::new(p.point.into(), p.normal.into()).map(Shape::from);
+            add("plane", i, &p.name, shape, &p.material, &p.transform, scene)?;
+        }
+        for (i, t) in group.triangle.iter().enumerate() {
+            let v = t.vertices.map(Vec3::from);
+            let n = t.normals.map(|n| n.map(Vec3::from));
+            let shape = Triangle::new(v, n).map(Shape::from);
+            add("triangle", i, &t.name, shape, &t.material, &t.transform, scene)?;
+        }
+        for (i, g) in group.group.iter().enumerate() {
+            let child_label = describe(label, "group", i, &g.name);
+            self.add_group(scene, ids, g, group_transform, material, &child_label)?;
+        }
+        Ok(())
+    }
+
+    fn transform(&self, ops: &[TransformOp], what: &str) -> Result<Transform, SceneError> {
+        let mut t = Transform::IDENTITY;
+        for op in ops {
+            let step = match op {
+                TransformOp::Translate(v) => Ok(Transform::translate((*v).into())),
+                TransformOp::Scale(v) => Transform::scale((*v).into()),
+                TransformOp::RotateX(a) => Ok(Transform::rotate_x(a.get())),
+                TransformOp::RotateY(a) => Ok(Transform::rotate_y(a.get())),
+                TransformOp::RotateZ(a) => Ok(Transform::rotate_z(a.get())),
+                TransformOp::Rotate(aa) => Transform::rotate(aa.axis.into(), aa.angle.get()),
+                TransformOp::Matrix(rows) => Transform::from_matrix(Mat4::from_cols_array_2d(rows).transpose()),
+            };
+            let key = match op {
+                TransformOp::Scale(_) => "scale",
+                TransformOp::Matrix(_) => "matrix",
+                _ => "transform",
+            };
+            let step = step.map_err(|e| {
+                let what = if what.is_empty() { "transform".to_owned() } else { format!("{what}: transform") };
+                self.error(find_key(&self.source, key, 0), format!("{what}: {e}"))
+            })?;
+            t = t.then(&step);
+        }
+        Ok(t)
+    }
+}
+
+fn falloff(f: Option<FalloffDesc>, default: Falloff) -> Falloff {
+    match f {
+        None => default,
+        Some(FalloffDesc::None) => Falloff::None,
+        Some(FalloffDesc::InverseSquare) => Falloff::InverseSquare,
+    }
+}
+
+fn describe(parent: &str, kind: &str, index: usize, name: &Option<String>) -> String {
+    let own = match name {
+        Some(n) => format!("{kind} \"{n}\""),
+        None => format!("{kind} #{}", index + 1),
+    };
+    if parent.is_empty() {
+        own
+    } else {
+        format!("{parent} > {own}")
+    }
+}
+
+fn io_reason(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file".to_owned(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".to_owned(),
+        _ => e.to_string(),
+    }
+}
+
+// Best-effort locators for errors found after parsing, when the parser's
+// positions are gone. They search the text for the key in either syntax and
+// are only used to point the user at a line; a miss just omits the position.
+
+fn is_key_at(line: &str, key: &str) -> Option<usize> {
+    let trimmed = line.trim_start();
+    let indent = line.len() - trimmed.len();
+    for candidate in [key.to_owned(), format!("\"{key}\"")] {
+        if let Some(rest) = trimmed.strip_prefix(&candidate) {
+            let rest = rest.trim_start();
+            if rest.starts_with('=') || rest.starts_with(':') {
+                return Some(indent);
+            }
+        }
+    }
+    // Inline tables: `{ key = ... }` or `"key": ...` after other text.
+    for pat in [format!("{{ {key} ="), format!("{{{key} ="), format!("\"{key}\":"), format!("\"{key}\" :")] {
+        if let Some(i) = line.find(&pat) {
+            return Some(i + pat.find(key).unwrap_or(0));
+        }
+    }
+    None
+}
+
+/// The `nth` line (0-based) that assigns `key`.
+pub(crate) fn find_key(source: &str, key: &str, nth: usize) -> Option<SourceLocation> {
+    source
+        .lines()
+        .enumerate()
+        .filter_map(|(i, l)| is_key_at(l, key).map(|c| (i, c)))
+        .nth(nth)
+        .map(|(i, c)| SourceLocation { line: i + 1, column: c + 1 })
+}
+
+/// The line that assigns the string `value` to `key`.
+fn find_value(source: &str, key: &str, value: &str) -> Option<SourceLocation> {
+    let quoted = format!("\"{value}\"");
+    source.lines().enumerate().find_map(|(i, l)| {
+        is_key_at(l, key)?;
+        l.find(&quoted).map(|c| SourceLocation { line: i + 1, column: c + 1 })
+    })
+}
+
+/// The header of a named material, `[materials.NAME...]` or `"NAME": {`.
+fn find_table(source: &str, name: &str) -> Option<SourceLocation> {
+    let toml = format!("[materials.{name}");
+    let json = format!("\"{name}\"");
+    source.lines().enumerate().find_map(|(i, l)| {
+        l.find(&toml).or_else(|| l.find(&json)).map(|c| SourceLocation { line: i + 1, column: c + 1 })
+    })
+}
+
+/// The `nth` (0-based) top-level `[[kind]]` header in TOML; in JSON, the
+/// `"kind"` key that holds the array.
+fn nth_table(source: &str, kind: &str, nth: usize) -> Option<SourceLocation> {
+    let header = format!("[[{kind}]]");
+    source
+        .lines()
+        .enumerate()
+        .filter_map(|(i, l)| {
+            let t = l.trim_start();
+            t.starts_with(&header).then(|| SourceLocation { line: i + 1, column: l.len() - t.len() + 1 })
+        })
+        .nth(nth)
+        .or_else(|| find_key(source, kind, 0))
+}

@@ -1,0 +1,77 @@
+use super::MaterialId;
+use crate::geometry::{Bounds3, Ray, Transform};
+use crate::interaction::SurfaceInteraction;
+use crate::shapes::Shape;
+
+/// A shape placed in the world: the shape in its object space, the
+/// transform from object to world space, and its material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Primitive {
+    shape: Shape,
+    /// Object-to-world transform; `None` for the identity, which saves two
+    /// matrix products per test.
+    transform: Option<Transform>,
+    material: MaterialId,
+}
+
+impl Primitive {
+    /// Place `shape` in the world with `transform` (object to world).
+    pub fn new(shape: impl Into<Shape>, transform: Transform, material: MaterialId) -> Self {
+        let transform = (!transform.is_identity()).then_some(transform);
+        Self { shape: shape.into(), transform, material }
+    }
+
+    /// The shape, in object space.
+    pub fn shape(&self) -> &Shape {
+        &self.shape
+    }
+
+    /// The object-to-world transform.
+    pub fn transform(&self) -> Transform {
+        self.transform.unwrap_or_default()
+    }
+
+    /// The material.
+    pub fn material(&self) -> MaterialId {
+        self.material
+    }
+
+    /// World-space bounds.
+    pub fn bounds(&self) -> Bounds3 {
+        match &self.transform {
+            None => self.shape.bounds(),
+            Some(t) => t.bounds(&self.shape.bounds()),
+        }
+    }
+
+    /// The nearest hit with `0 < t < t_max`. The ray is intersected in
+    /// object space through the inverse transform; the point returns through
+    /// the transform (with its error bound) and the normals through the
+    /// inverse transpose.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
+        let (hit, t) = match &self.transform {
+            None => (self.shape.intersect(ray, t_max)?, None),
+            Some(t) => (self.shape.intersect(&t.ray_to_object(ray), t_max)?, Some(t)),
+        };
+        let (p, p_error, n, ns) = match t {
+            None => (hit.p, hit.p_error, hit.n, hit.ns),
+            Some(t) => {
+                let (p, err) = t.point_with_error(hit.p, hit.p_error);
+                let n = t.normal(hit.n).normalize();
+                let ns = if hit.ns == hit.n { n } else { t.normal(hit.ns).normalize() };
+                (p, err, n, ns)
+            }
+        };
+        Some(SurfaceInteraction { t: hit.t, p, p_error, n, ns, uv: hit.uv, material: self.material })
+    }
+
+    /// Whether any hit with `0 < t < t_max` exists.
+    #[inline]
+    pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
+        match &self.transform {
+            None => self.shape.intersect_p(ray, t_max),
+            Some(t) => self.shape.intersect_p(&t.ray_to_object(ray), t_max),
+        }
+    }
+}
