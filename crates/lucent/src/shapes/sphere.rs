@@ -60,14 +60,20 @@ impl Sphere {
         let d = ray.dir;
         let a = d.length_squared();
         let b = 2.0 * d.dot(o);
-        let o_len = o.length();
-        let c = (o_len - self.radius) * (o_len + self.radius);
         let v = o - (b / (2.0 * a)) * d;
-        let v_len = v.length();
+        // The discriminant's sign is that of r - |v|: most rays miss, and they
+        // are rejected here without a square root.
+        let v2 = v.length_squared();
+        if v2 > self.radius * self.radius {
+            return None;
+        }
+        let v_len = v2.sqrt();
         let discrim = 4.0 * a * (self.radius + v_len) * (self.radius - v_len);
         if discrim < 0.0 {
             return None;
         }
+        let o_len = o.length();
+        let c = (o_len - self.radius) * (o_len + self.radius);
         let root = discrim.sqrt();
         let q = if b < 0.0 { -0.5 * (b - root) } else { -0.5 * (b + root) };
         if q == 0.0 {
