@@ -14,60 +14,67 @@ use crate::scene::Scene;
 /// `L = ka·c·L_ambient + Σ_lights f(wo, wi) · E_i · max(0, n·wi) + kr · L(reflected ray)`
 ///
 /// where `E_i` is what the light delivers (see [`crate::light::Light`]) and
-/// `f` is the [`crate::material::PhongBsdf`]. Reflection recursion stops
-/// after `max_depth` bounces; a ray that leaves the scene sees the
-/// background colour.
+/// `f` is the [`crate::material::PhongBsdf`]. Reflection stops after
+/// `max_depth` bounces; a ray that leaves the scene sees the background
+/// colour.
+///
+/// With a single reflected ray per hit the recursion is a chain, so it is
+/// evaluated as a loop carrying the product of the `kr` factors so far (the
+/// path throughput): no stack growth, whatever the depth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WhittedIntegrator {
     /// Most mirror bounces followed (0: no reflections).
     pub max_depth: u32,
 }
 
-impl WhittedIntegrator {
-    fn trace(&self, scene: &Scene, ray: &Ray, depth: u32, stats: &mut RayStats) -> Color {
-        let Some(si) = scene.intersect(ray, f32::INFINITY) else {
-            return scene.settings.background;
-        };
-        let wo = -ray.dir.normalize();
-        // Shade the side the ray arrived on: surfaces are two-sided.
-        let ng = face_forward(si.n, wo);
-        let ns = face_forward(si.ns, ng);
-        let bsdf = scene.material(si.material).bsdf(si.uv);
-
-        let mut l = bsdf.ambient * scene.ambient;
-        for light in scene.lights() {
-            let Some(sample) = light.sample_li(si.p) else { continue };
-            let cos = ns.dot(sample.wi);
-            // Light must be above both the shading and the geometric surface:
-            // interpolated normals must not let light through the back.
-            if cos <= 0.0 || ng.dot(sample.wi) <= 0.0 {
-                continue;
-            }
-            stats.shadow += 1;
-            let occluded = match sample.source {
-                LightSource::At(p) => {
-                    let (shadow_ray, t_max) = si.spawn_ray_to(p);
-                    scene.intersect_p(&shadow_ray, t_max)
-                }
-                LightSource::Infinite => scene.intersect_p(&si.spawn_ray(sample.wi), f32::INFINITY),
-            };
-            if !occluded {
-                l += bsdf.f(wo, sample.wi, ns) * sample.li * cos;
-            }
-        }
-
-        if bsdf.kr > 0.0 && depth < self.max_depth {
-            let r = reflect(-wo, ns);
-            stats.secondary += 1;
-            l += bsdf.kr * self.trace(scene, &si.spawn_ray(r), depth + 1, stats);
-        }
-        l
-    }
-}
-
 impl Integrator for WhittedIntegrator {
-    fn li(&self, scene: &Scene, ray: &Ray, stats: &mut RayStats) -> Color {
+    fn li(&self, scene: &Scene, camera_ray: &Ray, stats: &mut RayStats) -> Color {
         stats.camera += 1;
-        self.trace(scene, ray, 0, stats)
+        let mut radiance = Color::ZERO;
+        let mut throughput = 1.0f32;
+        let mut ray = *camera_ray;
+        let mut depth = 0;
+        loop {
+            let Some(si) = scene.intersect(&ray, f32::INFINITY) else {
+                return radiance + throughput * scene.settings.background;
+            };
+            let wo = -ray.dir.normalize();
+            // Shade the side the ray arrived on: surfaces are two-sided.
+            let ng = face_forward(si.n, wo);
+            let ns = face_forward(si.ns, ng);
+            let bsdf = scene.material(si.material).bsdf(si.uv);
+
+            let mut l = bsdf.ambient * scene.ambient;
+            for light in scene.lights() {
+                let Some(sample) = light.sample_li(si.p) else { continue };
+                let cos = ns.dot(sample.wi);
+                // Light must be above both the shading and the geometric
+                // surface: interpolated normals must not let light through
+                // the back.
+                if cos <= 0.0 || ng.dot(sample.wi) <= 0.0 {
+                    continue;
+                }
+                stats.shadow += 1;
+                let occluded = match sample.source {
+                    LightSource::At(p) => {
+                        let (shadow_ray, t_max) = si.spawn_ray_to(p);
+                        scene.intersect_p(&shadow_ray, t_max)
+                    }
+                    LightSource::Infinite => scene.intersect_p(&si.spawn_ray(sample.wi), f32::INFINITY),
+                };
+                if !occluded {
+                    l += bsdf.f(wo, sample.wi, ns) * sample.li * cos;
+                }
+            }
+            radiance += throughput * l;
+
+            if bsdf.kr <= 0.0 || depth >= self.max_depth {
+                return radiance;
+            }
+            throughput *= bsdf.kr;
+            depth += 1;
+            stats.secondary += 1;
+            ray = si.spawn_ray(reflect(-wo, ns));
+        }
     }
 }
