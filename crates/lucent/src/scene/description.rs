@@ -5,8 +5,52 @@
 //! Values with a range (a radius, a field of view, a colour) are checked as
 //! they are read, so an error points at the offending value in the file.
 
-use serde::{de::Error as _, Deserialize, Deserializer};
+use serde::{
+    de::{Error as _, Visitor},
+    Deserialize, Deserializer,
+};
 use std::collections::BTreeMap;
+use std::fmt;
+
+/// Reads any number (integer or float). A value of another type is reported
+/// as "invalid type: ..., expected WHAT", naming what is accepted.
+struct NumberVisitor(&'static str);
+
+impl Visitor<'_> for NumberVisitor {
+    type Value = f64;
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.0)
+    }
+    fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<f64, E> {
+        Ok(v)
+    }
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<f64, E> {
+        Ok(v as f64)
+    }
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<f64, E> {
+        Ok(v as f64)
+    }
+}
+
+/// Reads a whole number for a count in `1..=max`; a value of another type
+/// (a fraction, a string) is reported with the accepted range.
+struct CountVisitor {
+    what: &'static str,
+    max: u32,
+}
+
+impl Visitor<'_> for CountVisitor {
+    type Value = i64;
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: a whole number from 1 to {}", self.what, self.max)
+    }
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<i64, E> {
+        Ok(v)
+    }
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<i64, E> {
+        Ok(i64::try_from(v).unwrap_or(i64::MAX))
+    }
+}
 
 macro_rules! checked_f32 {
     ($(#[$doc:meta])* $name:ident, $ok:expr, $what:literal) => {
@@ -35,7 +79,14 @@ macro_rules! checked_f32 {
 
         impl<'de> Deserialize<'de> for $name {
             fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-                Self::try_from(f32::deserialize(d)?).map_err(D::Error::custom)
+                let v = d.deserialize_f64(NumberVisitor($what))?;
+                if v.is_finite() && !(v as f32).is_finite() {
+                    return Err(D::Error::custom(format!(
+                        concat!("expected ", $what, ", got {:e}, which is too large (at most about 3.4e38)"),
+                        v
+                    )));
+                }
+                Self::try_from(v as f32).map_err(D::Error::custom)
             }
         }
     };
@@ -64,12 +115,14 @@ pub struct Vec3Desc(pub [f32; 3]);
 
 impl<'de> Deserialize<'de> for Vec3Desc {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let v = <[f32; 3]>::deserialize(d)?;
-        if v.iter().all(|c| c.is_finite()) {
-            Ok(Self(v))
-        } else {
-            Err(D::Error::custom("expected three finite numbers [x, y, z]"))
-        }
+        Ok(Self(<[Finite; 3]>::deserialize(d)?.map(Finite::get)))
+    }
+}
+
+impl fmt::Display for Vec3Desc {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let [x, y, z] = self.0;
+        write!(f, "[{x}, {y}, {z}]")
     }
 }
 
@@ -107,8 +160,8 @@ pub struct Rgb(pub [f32; 3]);
 
 impl<'de> Deserialize<'de> for Rgb {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let v = <[f32; 3]>::deserialize(d)?;
-        if v.iter().all(|c| c.is_finite() && *c >= 0.0) {
+        let v = <[Finite; 3]>::deserialize(d)?.map(Finite::get);
+        if v.iter().all(|c| *c >= 0.0) {
             Ok(Self(v))
         } else {
             Err(D::Error::custom("expected a colour [r, g, b] of finite numbers ≥ 0"))
@@ -128,7 +181,7 @@ pub struct ImageDimension(pub u32);
 
 impl<'de> Deserialize<'de> for ImageDimension {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let v = i64::deserialize(d)?;
+        let v = d.deserialize_i64(CountVisitor { what: "an image size in pixels", max: crate::film::MAX_DIMENSION })?;
         if (1..=crate::film::MAX_DIMENSION as i64).contains(&v) {
             Ok(Self(v as u32))
         } else {
@@ -149,7 +202,7 @@ pub const MAX_SPP: u32 = 1 << 20;
 
 impl<'de> Deserialize<'de> for SampleCount {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let v = i64::deserialize(d)?;
+        let v = d.deserialize_i64(CountVisitor { what: "samples per pixel", max: MAX_SPP })?;
         if (1..=MAX_SPP as i64).contains(&v) {
             Ok(Self(v as u32))
         } else {
@@ -482,7 +535,7 @@ pub enum TransformOp {
     /// Move by `[x, y, z]`.
     Translate(Vec3Desc),
     /// Scale by `[x, y, z]` (no zero components).
-    Scale(Vec3Desc),
+    Scale(#[serde(deserialize_with = "nonzero_scale")] Vec3Desc),
     /// Rotate about x, degrees.
     RotateX(Finite),
     /// Rotate about y, degrees.
@@ -492,7 +545,45 @@ pub enum TransformOp {
     /// Rotate about an axis.
     Rotate(AxisAngle),
     /// A general affine matrix, four rows of four, acting on column vectors.
-    Matrix([[f32; 4]; 4]),
+    Matrix(#[serde(deserialize_with = "affine_matrix")] [[f32; 4]; 4]),
+}
+
+// Transforms and triangles are checked as they are read, like other values,
+// so that the error points at the offending value even inside a group.
+
+fn nonzero_scale<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3Desc, D::Error> {
+    let v = Vec3Desc::deserialize(d)?;
+    if v.0.contains(&0.0) {
+        return Err(D::Error::custom(format!(
+            "scale {v} has a zero component: the transform would be singular (it flattens the object, which \
+             cannot be undone); use non-zero factors"
+        )));
+    }
+    Ok(v)
+}
+
+fn affine_matrix<'de, D: Deserializer<'de>>(d: D) -> Result<[[f32; 4]; 4], D::Error> {
+    let rows = <[[Finite; 4]; 4]>::deserialize(d)?.map(|r| r.map(Finite::get));
+    crate::geometry::Transform::from_matrix(glam::Mat4::from_cols_array_2d(&rows).transpose())
+        .map_err(|e| D::Error::custom(transform_error_message(&e)))?;
+    Ok(rows)
+}
+
+/// A user-facing message for a transform that cannot be used.
+pub(crate) fn transform_error_message(e: &crate::geometry::TransformError) -> String {
+    match e {
+        crate::geometry::TransformError::Singular(det) => format!(
+            "the transform is singular (determinant {det}): it collapses an axis, which cannot be undone; \
+             scale factors must be non-zero and matrix columns independent"
+        ),
+        other => other.to_string(),
+    }
+}
+
+fn triangle_corners<'de, D: Deserializer<'de>>(d: D) -> Result<[Vec3Desc; 3], D::Error> {
+    let v = <[Vec3Desc; 3]>::deserialize(d)?;
+    crate::shapes::Triangle::new(v.map(glam::Vec3::from), None).map_err(D::Error::custom)?;
+    Ok(v)
 }
 
 /// Axis and angle of a general rotation.
@@ -559,6 +650,7 @@ pub struct TriangleDesc {
     #[serde(default)]
     pub name: Option<String>,
     /// The three corners, counter-clockwise seen from the front.
+    #[serde(deserialize_with = "triangle_corners")]
     pub vertices: [Vec3Desc; 3],
     /// Per-corner normals for smooth shading.
     #[serde(default)]

@@ -71,12 +71,33 @@ impl fmt::Display for SceneError {
         if let (Some(l), Some(text)) = (self.location, &self.line_text) {
             let gutter = l.line.to_string();
             let pad = " ".repeat(gutter.len());
-            let caret_pad: String =
-                text.chars().take(l.column - 1).map(|c| if c == '\t' { '\t' } else { ' ' }).collect();
+            let (text, column) = excerpt(text, l.column);
+            let caret_pad: String = text.chars().take(column - 1).map(|c| if c == '\t' { '\t' } else { ' ' }).collect();
             write!(f, "\n{pad} |\n{gutter} | {text}\n{pad} | {caret_pad}^")?;
         }
         Ok(())
     }
+}
+
+/// Longest line shown whole in a message; a longer one (minified JSON, say)
+/// is cut to a window around the column so that the message fits a screen.
+const MAX_EXCERPT: usize = 100;
+
+/// The part of `line` to show and the column of the caret in it.
+fn excerpt(line: &str, column: usize) -> (String, usize) {
+    let chars: Vec<char> = line.chars().collect();
+    if chars.len() <= MAX_EXCERPT {
+        return (line.to_owned(), column);
+    }
+    let half = MAX_EXCERPT / 2;
+    let start = column.saturating_sub(1 + half).min(chars.len() - MAX_EXCERPT);
+    let end = start + MAX_EXCERPT;
+    let mut text: String = if start > 0 { "…".into() } else { String::new() };
+    text.extend(&chars[start..end]);
+    if end < chars.len() {
+        text.push('…');
+    }
+    (text, column - start + usize::from(start > 0))
 }
 
 impl std::error::Error for SceneError {}
@@ -102,5 +123,20 @@ mod tests {
         assert!(text.starts_with("s.toml:2:7: bad fov"));
         assert!(text.contains("2 | fov = 200"));
         assert!(text.ends_with("|       ^"));
+    }
+
+    #[test]
+    fn display_cuts_long_lines_around_the_column() {
+        let src = format!("{}X{}", "a".repeat(5000), "b".repeat(5000));
+        let e = SceneError::at(None, &src, Some(SourceLocation { line: 1, column: 5001 }), "here");
+        let text = e.to_string();
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[2].len() < 120 * 3 && lines[2].contains('X') && lines[2].contains('…'), "{text}");
+        let caret = lines[3].chars().count() - 1;
+        assert_eq!(lines[2].chars().nth(caret), Some('X'), "{text}");
+        // Near the start, only the end is cut.
+        let e = SceneError::at(None, &src, Some(SourceLocation { line: 1, column: 3 }), "here");
+        let text = e.to_string();
+        assert!(text.contains("1 | aaa") && text.ends_with("|   ^"), "{text}");
     }
 }

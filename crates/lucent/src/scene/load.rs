@@ -3,7 +3,7 @@
 use super::description::*;
 use super::error::{SceneError, SourceLocation};
 use super::{MaterialId, Primitive, Scene};
-use crate::camera::{Camera, ThinLens};
+use crate::camera::{Camera, CameraError, ThinLens};
 use crate::color::Color;
 use crate::film::{check_image_size, ToneMap};
 use crate::geometry::{Mat4, Transform, Vec3};
@@ -80,6 +80,9 @@ impl SceneFile {
         let owned = Some(path.to_owned());
         let format = SceneFormat::from_path(path)
             .ok_or_else(|| SceneError::new(owned.clone(), "unknown scene file extension (accepted: .toml, .json)"))?;
+        if path.is_dir() {
+            return Err(SceneError::new(owned, "cannot read the scene file: it is a directory"));
+        }
         let bytes = std::fs::read(path)
             .map_err(|e| SceneError::new(owned.clone(), format!("cannot read the scene file: {}", io_reason(&e))))?;
         let source = String::from_utf8(bytes).map_err(|e| {
@@ -97,7 +100,7 @@ impl SceneFile {
         let description = match format {
             SceneFormat::Toml => toml::from_str::<SceneDescription>(&source).map_err(|e| {
                 let loc = e.span().map(|s| SourceLocation::from_offset(&source, s.start));
-                SceneError::at(path.clone(), &source, loc, e.message().trim_end())
+                SceneError::at(path.clone(), &source, loc, explain(e.message().trim_end()))
             })?,
             SceneFormat::Json => serde_json::from_str::<SceneDescription>(&source).map_err(|e| {
                 let full = e.to_string();
@@ -106,7 +109,7 @@ impl SceneFile {
                     None => full,
                 };
                 let loc = (e.line() > 0).then(|| SourceLocation { line: e.line(), column: e.column().max(1) });
-                SceneError::at(path.clone(), &source, loc, message)
+                SceneError::at(path.clone(), &source, loc, explain(&message))
             })?,
         };
         Ok(Self { path, source, description })
@@ -121,11 +124,22 @@ impl SceneFile {
         let d = &self.description;
         let r = &d.render;
         let (w, h) = (r.width.0, r.height.0);
-        check_image_size(w, h).map_err(|e| self.error(find_key(&self.source, "width", 0), e.to_string()))?;
+        check_image_size(w, h).map_err(|e| {
+            let at = find_key(&self.source, "width", 0)
+                .or_else(|| find_key(&self.source, "height", 0))
+                .or_else(|| find_header(&self.source, "render"));
+            self.error(at, e.to_string())
+        })?;
 
         let c = &d.camera;
-        let mut camera = Camera::new(c.eye.into(), c.look_at.into(), c.up.into(), c.fov.get(), w, h)
-            .map_err(|e| self.error(find_key(&self.source, "camera", 0), format!("[camera]: {e}")))?;
+        let mut camera = Camera::new(c.eye.into(), c.look_at.into(), c.up.into(), c.fov.get(), w, h).map_err(|e| {
+            let key = match e {
+                CameraError::NoViewDirection => find_key(&self.source, "look_at", 0),
+                CameraError::BadUp => find_key(&self.source, "up", 0).or_else(|| find_key(&self.source, "look_at", 0)),
+                _ => None,
+            };
+            self.error(key.or_else(|| find_header(&self.source, "camera")), format!("[camera]: {e}"))
+        })?;
         if let Some(radius) = c.lens_radius {
             let focal_distance =
                 c.focal_distance.map_or_else(|| (Vec3::from(c.look_at) - Vec3::from(c.eye)).length(), |f| f.get());
@@ -163,12 +177,11 @@ impl SceneFile {
             ids.insert(name.as_str(), scene.add_material(material));
         }
 
-        for l in &d.point_light {
+        for (i, l) in d.point_light.iter().enumerate() {
             let falloff = falloff(l.falloff, Falloff::None);
-            scene.add_light(
-                Light::point(l.position.into(), l.color.into(), l.intensity.get(), falloff)
-                    .map_err(|e| self.error(None, format!("point_light: {e}")))?,
-            );
+            scene.add_light(Light::point(l.position.into(), l.color.into(), l.intensity.get(), falloff).map_err(
+                |e| self.error(nth_table(&self.source, "point_light", i), format!("point_light #{}: {e}", i + 1)),
+            )?);
         }
         for (i, l) in d.spot_light.iter().enumerate() {
             let falloff = falloff(l.falloff, Falloff::InverseSquare);
@@ -181,14 +194,16 @@ impl SceneFile {
                 l.cone_delta.get().min(l.angle.get()),
                 falloff,
             )
-            .map_err(|e| self.error(find_key(&self.source, "angle", i), format!("spot_light: {e}")))?;
+            .map_err(|e| self.error(nth_table(&self.source, "spot_light", i), format!("spot_light #{}: {e}", i + 1)))?;
             scene.add_light(light);
         }
-        for l in &d.directional_light {
-            scene.add_light(
-                Light::directional(l.direction.into(), l.color.into(), l.intensity.get())
-                    .map_err(|e| self.error(None, format!("directional_light: {e}")))?,
-            );
+        for (i, l) in d.directional_light.iter().enumerate() {
+            scene.add_light(Light::directional(l.direction.into(), l.color.into(), l.intensity.get()).map_err(
+                |e| {
+                    let at = nth_table(&self.source, "directional_light", i);
+                    self.error(at, format!("directional_light #{}: {e}", i + 1))
+                },
+            )?);
         }
 
         let root = GroupDesc {
@@ -200,7 +215,7 @@ impl SceneFile {
             triangle: d.triangle.clone(),
             group: d.group.clone(),
         };
-        self.add_group(&mut scene, &ids, &root, Transform::IDENTITY, None, "")?;
+        self.add_group(&mut scene, &ids, &root, Transform::IDENTITY, None, Place { label: "", at: None })?;
         Ok(scene)
     }
 
@@ -248,9 +263,10 @@ impl SceneFile {
         group: &GroupDesc,
         parent: Transform,
         parent_material: Option<&str>,
-        label: &str,
+        place: Place<'_>,
     ) -> Result<(), SceneError> {
-        let group_transform = self.transform(&group.transform, label)?.then(&parent);
+        let Place { label, at: group_at } = place;
+        let group_transform = self.transform(&group.transform, label, group_at)?.then(&parent);
         let material = group.material.as_deref().or(parent_material);
         let add = |kind: &str,
                    index: usize,
@@ -262,8 +278,9 @@ impl SceneFile {
          -> Result<(), SceneError> {
             let what = describe(label, kind, index, name);
             // Top-level objects are the n-th `[[kind]]` table of the file;
-            // nested ones are identified by their path in the message.
-            let at = if label.is_empty() { nth_table(&self.source, kind, index) } else { None };
+            // nested ones are identified by their path in the message and
+            // located at the top-level `[[group]]` that holds them.
+            let at = if label.is_empty() { nth_table(&self.source, kind, index) } else { group_at };
             let shape = shape.map_err(|e| self.error(at, format!("{what}: {e}")))?;
             let material_name = own_material.as_deref().or(material).ok_or_else(|| {
                 self.error(at, format!("{what} has no material (set `material`, or one on its group)"))
@@ -277,7 +294,7 @@ impl SceneFile {
                     format!("{what}: material \"{material_name}\" is not defined (defined: {known})"),
                 )
             })?;
-            let t = self.transform(ops, &what)?.then(&group_transform);
+            let t = self.transform(ops, &what, at)?.then(&group_transform);
             scene.add(Primitive::new(shape, t, id));
             Ok(())
         };
@@ -297,12 +314,16 @@ impl SceneFile {
         }
         for (i, g) in group.group.iter().enumerate() {
             let child_label = describe(label, "group", i, &g.name);
-            self.add_group(scene, ids, g, group_transform, material, &child_label)?;
+            let child_at = if label.is_empty() { nth_table(&self.source, "group", i) } else { group_at };
+            self.add_group(scene, ids, g, group_transform, material, Place { label: &child_label, at: child_at })?;
         }
         Ok(())
     }
 
-    fn transform(&self, ops: &[TransformOp], what: &str) -> Result<Transform, SceneError> {
+    /// The transform of `ops`. Scales and matrices are checked as they are
+    /// read; what can still fail here (a rotation about an axis too long to
+    /// normalise) is reported at `at`, the object's table.
+    fn transform(&self, ops: &[TransformOp], what: &str, at: Option<SourceLocation>) -> Result<Transform, SceneError> {
         let mut t = Transform::IDENTITY;
         for op in ops {
             let step = match op {
@@ -314,19 +335,23 @@ impl SceneFile {
                 TransformOp::Rotate(aa) => Transform::rotate(aa.axis.into(), aa.angle.get()),
                 TransformOp::Matrix(rows) => Transform::from_matrix(Mat4::from_cols_array_2d(rows).transpose()),
             };
-            let key = match op {
-                TransformOp::Scale(_) => "scale",
-                TransformOp::Matrix(_) => "matrix",
-                _ => "transform",
-            };
             let step = step.map_err(|e| {
                 let what = if what.is_empty() { "transform".to_owned() } else { format!("{what}: transform") };
-                self.error(find_key(&self.source, key, 0), format!("{what}: {e}"))
+                self.error(at, format!("{what}: {}", transform_error_message(&e)))
             })?;
             t = t.then(&step);
         }
         Ok(t)
     }
+}
+
+/// Where a group is, for messages: its label (`group #1 > group "arm"`,
+/// empty for the scene's root) and the location of the top-level `[[group]]`
+/// that holds it.
+#[derive(Clone, Copy)]
+struct Place<'a> {
+    label: &'a str,
+    at: Option<SourceLocation>,
 }
 
 fn falloff(f: Option<FalloffDesc>, default: Falloff) -> Falloff {
@@ -346,6 +371,15 @@ fn describe(parent: &str, kind: &str, index: usize, name: &Option<String>) -> St
         own
     } else {
         format!("{parent} > {own}")
+    }
+}
+
+/// Add a hint to parser messages that need one.
+fn explain(message: &str) -> String {
+    if message == "missing field `camera`" {
+        "missing field `camera`: every scene needs a [camera] table with at least `eye` and `look_at`".to_owned()
+    } else {
+        message.to_owned()
     }
 }
 
@@ -389,6 +423,20 @@ pub(crate) fn find_key(source: &str, key: &str, nth: usize) -> Option<SourceLoca
         .filter_map(|(i, l)| is_key_at(l, key).map(|c| (i, c)))
         .nth(nth)
         .map(|(i, c)| SourceLocation { line: i + 1, column: c + 1 })
+}
+
+/// A table header `[name]` (TOML) or the key `"name"` (JSON, or an inline
+/// table in TOML).
+fn find_header(source: &str, name: &str) -> Option<SourceLocation> {
+    let header = format!("[{name}]");
+    source
+        .lines()
+        .enumerate()
+        .find_map(|(i, l)| {
+            let t = l.trim_start();
+            t.starts_with(&header).then(|| SourceLocation { line: i + 1, column: l.len() - t.len() + 1 })
+        })
+        .or_else(|| find_key(source, name, 0))
 }
 
 /// The line that assigns the string `value` to `key`.
