@@ -13,7 +13,7 @@ struct Measurement {
 /// one run are what can be compared).
 pub fn run(args: &BenchArgs) -> Result<(), String> {
     let mut file = crate::load(args.scene.as_deref())?;
-    crate::apply_overrides(&mut file, &args.overrides);
+    crate::apply_overrides(&mut file, &args.overrides)?;
     let scene = file.build().map_err(|e| e.to_string())?;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut counts = args.threads.clone();
@@ -56,7 +56,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
                 )
             })
             .collect();
-        println!(
+        say!(
             "{{\"scene\": {:?}, \"width\": {}, \"height\": {}, \"spp\": {}, \"repeats\": {}, \"results\": [{}]}}",
             name,
             scene.camera.width(),
@@ -64,24 +64,24 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             scene.settings.spp,
             args.repeats,
             rows.join(", ")
-        );
+        )?;
     } else {
-        println!(
+        say!(
             "{name}: {}×{}, {} spp, median of {} renders",
             scene.camera.width(),
             scene.camera.height(),
             scene.settings.spp,
             args.repeats
-        );
-        println!("{:>8} {:>12} {:>12} {:>10}", "threads", "seconds", "Mrays/s", "speedup");
+        )?;
+        say!("{:>8} {:>12} {:>12} {:>10}", "threads", "seconds", "Mrays/s", "speedup")?;
         for m in &results {
-            println!(
+            say!(
                 "{:>8} {:>12.3} {:>12.2} {:>9.2}×",
                 m.threads,
                 m.median_seconds,
                 m.median_mrays,
                 m.median_mrays / base
-            );
+            )?;
         }
     }
     Ok(())

@@ -54,9 +54,9 @@ pub struct RenderArgs {
     pub output: Option<PathBuf>,
     #[command(flatten)]
     pub overrides: SceneOverrides,
-    /// Worker threads [default: all cores]. The image is identical for any
-    /// thread count.
-    #[arg(long)]
+    /// Worker threads, 1 to 1024 [default: all cores]. The image is
+    /// identical for any thread count.
+    #[arg(long, value_parser = thread_count())]
     pub threads: Option<usize>,
     /// Print nothing but errors.
     #[arg(short, long)]
@@ -72,10 +72,16 @@ pub struct BenchArgs {
     /// Renders per thread count; the median is reported.
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub repeats: u32,
-    /// Thread counts to measure, comma-separated [default: 1 and all cores].
-    #[arg(long, value_delimiter = ',')]
+    /// Thread counts to measure, comma-separated, each 1 to 1024 [default: 1
+    /// and all cores].
+    #[arg(long, value_delimiter = ',', value_parser = thread_count())]
     pub threads: Vec<usize>,
     /// Print the results as JSON.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Accepted worker-thread counts: a larger pool only wastes memory.
+fn thread_count() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::new().range(1..=1024)
 }

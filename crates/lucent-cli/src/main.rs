@@ -1,5 +1,14 @@
 //! `lucent`: render scene files from the command line.
 
+/// `println!` that reports a failure (a closed pipe, a full disk) as an error
+/// for `main` to print, instead of panicking.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout(), $($arg)*).map_err(|e| format!("cannot write to standard output: {e}"))
+    }};
+}
+
 mod bench;
 mod cli;
 mod progress;
@@ -40,8 +49,10 @@ pub fn load(path: Option<&Path>) -> Result<SceneFile, String> {
     }
 }
 
-/// Apply command-line overrides to a loaded scene file.
-pub fn apply_overrides(file: &mut SceneFile, args: &cli::SceneOverrides) {
+/// Apply command-line overrides to a loaded scene file. An image size set
+/// on the command line is checked here, so that an error names the options
+/// rather than a line of the file.
+pub fn apply_overrides(file: &mut SceneFile, args: &cli::SceneOverrides) -> Result<(), String> {
     let r = &mut file.description.render;
     if let Some(w) = args.width {
         r.width = lucent::scene::ImageDimension(w);
@@ -55,11 +66,21 @@ pub fn apply_overrides(file: &mut SceneFile, args: &cli::SceneOverrides) {
     if let Some(seed) = args.seed {
         r.seed = seed;
     }
+    if args.width.is_some() || args.height.is_some() {
+        lucent::film::check_image_size(r.width.0, r.height.0).map_err(|e| {
+            let given: Vec<String> = [("--width", args.width), ("--height", args.height)]
+                .iter()
+                .filter_map(|(name, v)| v.map(|v| format!("{name} {v}")))
+                .collect();
+            format!("{}: {e}", given.join(" "))
+        })?;
+    }
+    Ok(())
 }
 
 fn run_render(args: &RenderArgs) -> Result<(), String> {
     let mut file = load(args.scene.as_deref())?;
-    apply_overrides(&mut file, &args.overrides);
+    apply_overrides(&mut file, &args.overrides)?;
     let scene = file.build().map_err(|e| e.to_string())?;
 
     let out_path = args.output.clone().unwrap_or_else(|| default_output(args.scene.as_deref()));
@@ -76,7 +97,7 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
 
     pending.write(&output.film, scene.settings.tone_map, scene.settings.srgb).map_err(|e| e.to_string())?;
     if !args.quiet {
-        println!(
+        say!(
             "{}: {}×{}, {} spp, {:.2} s, {:.1} M rays, {:.2} Mrays/s",
             out_path.display(),
             scene.camera.width(),
@@ -85,14 +106,14 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
             output.elapsed.as_secs_f64(),
             output.stats.total() as f64 / 1e6,
             output.mrays_per_second()
-        );
+        )?;
     }
     Ok(())
 }
 
 fn run_check(path: &Path) -> Result<(), String> {
     let scene = SceneFile::load(path).and_then(|f| f.build()).map_err(|e| e.to_string())?;
-    println!(
+    say!(
         "{}: ok ({} objects, {} materials, {} lights, {}×{}, {} spp)",
         path.display(),
         scene.primitives().len(),
@@ -101,7 +122,7 @@ fn run_check(path: &Path) -> Result<(), String> {
         scene.camera.width(),
         scene.camera.height(),
         scene.settings.spp
-    );
+    )?;
     Ok(())
 }
 

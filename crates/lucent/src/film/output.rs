@@ -17,7 +17,7 @@ pub enum ImageFormat {
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
     /// The extension is not one lucent writes.
-    #[error("cannot write '{path}': unknown image extension (accepted: .png, .bmp, .exr)")]
+    #[error("cannot write '{path}': {} (accepted: .png, .bmp, .exr)", describe_extension(.path))]
     UnknownExtension {
         /// The output path.
         path: PathBuf,
@@ -38,6 +38,13 @@ pub enum OutputError {
         /// The cause.
         source: image::ImageError,
     },
+}
+
+fn describe_extension(path: &Path) -> String {
+    match path.extension() {
+        Some(ext) => format!("unknown image extension '.{}'", ext.to_string_lossy()),
+        None => "unknown image extension: the name has none".to_owned(),
+    }
 }
 
 impl ImageFormat {
@@ -72,22 +79,35 @@ impl PendingImage {
     /// Reserve `path` for an image.
     pub fn create(path: impl AsRef<Path>) -> Result<Self, OutputError> {
         let path = path.as_ref().to_owned();
-        let format = ImageFormat::from_path(&path)?;
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
-            _ => PathBuf::from("."),
-        };
         if path.is_dir() {
             return Err(OutputError::Io {
                 path,
                 source: std::io::Error::new(std::io::ErrorKind::IsADirectory, "it is a directory"),
             });
         }
-        let temp = tempfile::Builder::new()
-            .prefix(".lucent-")
-            .suffix(".tmp")
-            .tempfile_in(&dir)
-            .map_err(|source| OutputError::Io { path: path.clone(), source })?;
+        let format = ImageFormat::from_path(&path)?;
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
+            _ => PathBuf::from("."),
+        };
+        if !dir.is_dir() {
+            let why = if dir.exists() {
+                format!("'{}' is not a directory", dir.display())
+            } else {
+                format!("the directory '{}' does not exist", dir.display())
+            };
+            let source = std::io::Error::new(std::io::ErrorKind::NotFound, why);
+            return Err(OutputError::Io { path, source });
+        }
+        let temp = tempfile::Builder::new().prefix(".lucent-").suffix(".tmp").tempfile_in(&dir).map_err(|e| {
+            // The error names the temporary file, which means nothing to the
+            // user: keep only the cause.
+            let source = match e.kind() {
+                std::io::ErrorKind::Other => e,
+                kind => std::io::Error::new(kind, format!("{} in '{}'", std::io::Error::from(kind), dir.display())),
+            };
+            OutputError::Io { path: path.clone(), source }
+        })?;
         Ok(Self { path, format, temp })
     }
 
