@@ -113,12 +113,13 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
 
 fn run_check(path: &Path) -> Result<(), String> {
     let scene = SceneFile::load(path).and_then(|f| f.build()).map_err(|e| e.to_string())?;
+    let count = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
     say!(
-        "{}: ok ({} objects, {} materials, {} lights, {}×{}, {} spp)",
+        "{}: ok ({}, {}, {}, {}×{}, {} spp)",
         path.display(),
-        scene.primitives().len(),
-        scene.materials().len(),
-        scene.lights().len(),
+        count(scene.primitives().len(), "object"),
+        count(scene.materials().len(), "material"),
+        count(scene.lights().len(), "light"),
         scene.camera.width(),
         scene.camera.height(),
         scene.settings.spp

@@ -211,6 +211,25 @@ impl<'de> Deserialize<'de> for SampleCount {
     }
 }
 
+/// Most mirror bounces: 0 to 10,000.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MaxDepth(pub u32);
+
+/// Largest `max_depth` accepted. Deeper chains add nothing visible: each
+/// bounce multiplies by a reflectivity below 1.
+pub const MAX_DEPTH: u32 = 10_000;
+
+impl<'de> Deserialize<'de> for MaxDepth {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = d.deserialize_i64(CountVisitor { what: "a bounce count", max: MAX_DEPTH })?;
+        if (0..=MAX_DEPTH as i64).contains(&v) {
+            Ok(Self(v as u32))
+        } else {
+            Err(D::Error::custom(format!("expected max_depth from 0 to {MAX_DEPTH}, got {v}")))
+        }
+    }
+}
+
 /// A whole scene file.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -308,7 +327,7 @@ pub struct RenderDesc {
     pub spp: SampleCount,
     /// Most mirror bounces (default 5).
     #[serde(default = "default_max_depth")]
-    pub max_depth: u32,
+    pub max_depth: MaxDepth,
     /// Background radiance (default black).
     #[serde(default = "default_background")]
     pub background: Rgb,
@@ -332,8 +351,8 @@ fn default_height() -> ImageDimension {
 fn default_spp() -> SampleCount {
     SampleCount(16)
 }
-fn default_max_depth() -> u32 {
-    5
+fn default_max_depth() -> MaxDepth {
+    MaxDepth(5)
 }
 fn default_background() -> Rgb {
     Rgb([0.0; 3])
@@ -394,13 +413,45 @@ fn positive_one() -> Positive {
 }
 
 /// A material: `[materials.NAME.matte]` or `[materials.NAME.phong]`.
-#[derive(Clone, Debug, Deserialize)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
+#[derive(Clone, Debug)]
 pub enum MaterialDesc {
     /// Lambertian.
     Matte(MatteDesc),
     /// Phong with mirror reflection.
     Phong(PhongDesc),
+}
+
+/// A material is a table with exactly one key, its kind. Written by hand
+/// (rather than derived) so that a second kind or a missing kind gets a
+/// message that says so.
+impl<'de> Deserialize<'de> for MaterialDesc {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct KindVisitor;
+        const KINDS: &[&str] = &["matte", "phong"];
+        impl<'de> Visitor<'de> for KindVisitor {
+            type Value = MaterialDesc;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a material table with one kind: `matte` or `phong`")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<MaterialDesc, A::Error> {
+                let Some(kind) = map.next_key::<String>()? else {
+                    return Err(A::Error::custom("a material needs a kind: `matte` or `phong`"));
+                };
+                let material = match kind.as_str() {
+                    "matte" => MaterialDesc::Matte(map.next_value()?),
+                    "phong" => MaterialDesc::Phong(map.next_value()?),
+                    _ => return Err(A::Error::unknown_variant(&kind, KINDS)),
+                };
+                if let Some(second) = map.next_key::<String>()? {
+                    return Err(A::Error::custom(format!(
+                        "a material has exactly one kind, but `{second}` follows `{kind}`; give each kind its own material name"
+                    )));
+                }
+                Ok(material)
+            }
+        }
+        d.deserialize_map(KindVisitor)
+    }
 }
 
 /// Keys of a matte material.
@@ -499,9 +550,10 @@ pub struct SpotLightDesc {
     /// Cone half-angle in degrees (default 30).
     #[serde(default = "thirty")]
     pub angle: Positive,
-    /// Width of the smooth edge, degrees (default 5, at most `angle`).
-    #[serde(default = "five")]
-    pub cone_delta: NonNegative,
+    /// Width of the smooth edge, degrees (default: 5, or `angle` if that is
+    /// smaller; at most `angle`).
+    #[serde(default)]
+    pub cone_delta: Option<NonNegative>,
     /// Falloff (default `inverse_square`).
     #[serde(default)]
     pub falloff: Option<FalloffDesc>,
@@ -509,9 +561,6 @@ pub struct SpotLightDesc {
 
 fn thirty() -> Positive {
     Positive(30.0)
-}
-fn five() -> NonNegative {
-    NonNegative(5.0)
 }
 
 /// A `[[directional_light]]`.

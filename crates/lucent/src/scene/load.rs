@@ -156,7 +156,7 @@ impl SceneFile {
         let mut scene = Scene::new(camera);
         scene.settings = RenderSettings {
             spp: r.spp.0,
-            max_depth: r.max_depth,
+            max_depth: r.max_depth.0,
             background: r.background.into(),
             tone_map: match r.tone_map {
                 ToneMapDesc::Classic => ToneMap::Classic,
@@ -185,13 +185,17 @@ impl SceneFile {
         }
         for (i, l) in d.spot_light.iter().enumerate() {
             let falloff = falloff(l.falloff, Falloff::InverseSquare);
+            let angle = l.angle.get();
+            // The default blend width fits inside any cone; one given
+            // explicitly must (the light error below says so).
+            let delta = l.cone_delta.map_or(angle.min(5.0), NonNegative::get);
             let light = Light::spot(
                 l.position.into(),
                 l.direction.into(),
                 l.color.into(),
                 l.intensity.get(),
-                l.angle.get(),
-                l.cone_delta.get().min(l.angle.get()),
+                angle,
+                delta,
                 falloff,
             )
             .map_err(|e| self.error(nth_table(&self.source, "spot_light", i), format!("spot_light #{}: {e}", i + 1)))?;
