@@ -110,6 +110,11 @@ impl Triangle {
         let mut p0t = permute(self.p[0] - ray.origin, kx, ky, kz);
         let mut p1t = permute(self.p[1] - ray.origin, kx, ky, kz);
         let mut p2t = permute(self.p[2] - ray.origin, kx, ky, kz);
+        // Magnitudes before the shear and the z scaling, for the error bounds
+        // of the sheared x and y below.
+        let max_x0 = Vec3::new(p0t.x, p1t.x, p2t.x).abs().max_element();
+        let max_y0 = Vec3::new(p0t.y, p1t.y, p2t.y).abs().max_element();
+        let max_z0 = Vec3::new(p0t.z, p1t.z, p2t.z).abs().max_element();
 
         // Shear so that the ray direction becomes +z.
         let sx = -d.x / d.z;
@@ -162,8 +167,16 @@ impl Triangle {
         let delta_z = gamma(3) * max_zt;
         let max_xt = Vec3::new(p0t.x, p1t.x, p2t.x).abs().max_element();
         let max_yt = Vec3::new(p0t.y, p1t.y, p2t.y).abs().max_element();
-        let delta_x = gamma(5) * (max_xt + max_zt);
-        let delta_y = gamma(5) * (max_yt + max_zt);
+        // The sheared x' = x + Sx·z carries an error of at most
+        // γ₅(|x| + |Sx·z|), x and z taken before the shear, z unscaled.
+        // (PBRT writes γ₅(max|x'| + max|z·Sz|), bounding |Sx·z| by the
+        // *scaled* z = z/d_z: that ties the bound to the length of the ray
+        // direction — too small for a long direction vector, and for a short
+        // one, or a ray near an axis, so large that δt exceeded t and real
+        // hits were rejected, e.g. a 0.1 mm triangle seen along a direction
+        // of length 1e-5, or a 1 mm triangle 1 km along the z axis.)
+        let delta_x = gamma(5) * (max_x0 + sx.abs() * max_z0);
+        let delta_y = gamma(5) * (max_y0 + sy.abs() * max_z0);
         let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
         let max_e = Vec3::new(e0, e1, e2).abs().max_element();
         let delta_t = 3.0 * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * inv_det.abs();
