@@ -1067,7 +1067,7 @@ fn check_reports_the_scene() {
     let run = f.check("scene.toml", SCENE);
     assert_success(&run);
     assert!(run.stderr.is_empty(), "{}", run.stderr);
-    assert_eq!(run.stdout.trim(), "scene.toml: ok (1 objects, 1 materials, 1 lights, 8×8, 1 spp)");
+    assert_eq!(run.stdout.trim(), "scene.toml: ok (1 object, 1 material, 1 light, 8×8, 1 spp)");
 }
 
 #[test]
@@ -1075,7 +1075,7 @@ fn json_scene_loads_and_renders() {
     let f = Fixture::new();
     let run = f.check("scene.json", SCENE_JSON);
     assert_success(&run);
-    assert_eq!(run.stdout.trim(), "scene.json: ok (1 objects, 1 materials, 1 lights, 8×8, 1 spp)");
+    assert_eq!(run.stdout.trim(), "scene.json: ok (1 object, 1 material, 1 light, 8×8, 1 spp)");
     let run = f.run(&["render", "scene.json", "-o", "json.png", "--quiet"]);
     assert_success(&run);
     // Same scene, same seed: the same image as from TOML.
