@@ -25,46 +25,52 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         return Err("--threads: thread counts must be at least 1".into());
     }
 
-    let mut results = Vec::new();
-    for &threads in &counts {
-        let mut seconds = Vec::new();
-        let mut rays = 0;
-        for _ in 0..args.repeats {
+    // Interleave the thread counts (1, N, 1, N, ...) so that a slow spell of
+    // the shared machine hits every configuration alike, then take medians.
+    let mut seconds = vec![Vec::new(); counts.len()];
+    let mut rays = vec![0u64; counts.len()];
+    for _ in 0..args.repeats {
+        for (i, &threads) in counts.iter().enumerate() {
             let out =
                 render(&scene, &RenderOptions { threads: Some(threads), progress: None }).map_err(|e| e.to_string())?;
-            seconds.push(out.elapsed.as_secs_f64());
-            rays = out.stats.total();
+            seconds[i].push(out.elapsed.as_secs_f64());
+            rays[i] = out.stats.total();
         }
-        seconds.sort_by(f64::total_cmp);
-        let median = seconds[seconds.len() / 2];
-        results.push(Measurement { threads, median_seconds: median, median_mrays: rays as f64 / median / 1e6, rays });
     }
+    let results: Vec<Measurement> = counts
+        .iter()
+        .zip(seconds.iter_mut().zip(&rays))
+        .map(|(&threads, (times, &rays))| {
+            times.sort_by(f64::total_cmp);
+            let median = times[times.len() / 2];
+            Measurement { threads, median_seconds: median, median_mrays: rays as f64 / median / 1e6, rays }
+        })
+        .collect();
 
     let base = results[0].median_mrays;
     let name = args.scene.as_ref().map_or_else(|| "<built-in showcase>".to_owned(), |p| p.display().to_string());
     if args.json {
-        let rows: Vec<String> = results
+        let rows: Vec<serde_json::Value> = results
             .iter()
             .map(|m| {
-                format!(
-                    "{{\"threads\": {}, \"median_seconds\": {:.6}, \"mrays_per_second\": {:.4}, \"rays\": {}, \"speedup\": {:.4}}}",
-                    m.threads,
-                    m.median_seconds,
-                    m.median_mrays,
-                    m.rays,
-                    m.median_mrays / base
-                )
+                serde_json::json!({
+                    "threads": m.threads,
+                    "median_seconds": m.median_seconds,
+                    "mrays_per_second": m.median_mrays,
+                    "rays": m.rays,
+                    "speedup": m.median_mrays / base,
+                })
             })
             .collect();
-        say!(
-            "{{\"scene\": {:?}, \"width\": {}, \"height\": {}, \"spp\": {}, \"repeats\": {}, \"results\": [{}]}}",
-            name,
-            scene.camera.width(),
-            scene.camera.height(),
-            scene.settings.spp,
-            args.repeats,
-            rows.join(", ")
-        )?;
+        let report = serde_json::json!({
+            "scene": name,
+            "width": scene.camera.width(),
+            "height": scene.camera.height(),
+            "spp": scene.settings.spp,
+            "repeats": args.repeats,
+            "results": rows,
+        });
+        say!("{report}")?;
     } else {
         say!(
             "{name}: {}×{}, {} spp, median of {} renders",
