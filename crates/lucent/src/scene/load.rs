@@ -429,18 +429,23 @@ pub(crate) fn find_key(source: &str, key: &str, nth: usize) -> Option<SourceLoca
         .map(|(i, c)| SourceLocation { line: i + 1, column: c + 1 })
 }
 
-/// A table header `[name]` (TOML) or the key `"name"` (JSON, or an inline
-/// table in TOML).
-fn find_header(source: &str, name: &str) -> Option<SourceLocation> {
-    let header = format!("[{name}]");
+/// The `nth` (0-based) line whose text, after indentation, starts with
+/// `prefix`; the location is that of the first non-blank character.
+fn nth_line_starting_with(source: &str, prefix: &str, nth: usize) -> Option<SourceLocation> {
     source
         .lines()
         .enumerate()
-        .find_map(|(i, l)| {
+        .filter_map(|(i, l)| {
             let t = l.trim_start();
-            t.starts_with(&header).then(|| SourceLocation { line: i + 1, column: l.len() - t.len() + 1 })
+            t.starts_with(prefix).then(|| SourceLocation { line: i + 1, column: l.len() - t.len() + 1 })
         })
-        .or_else(|| find_key(source, name, 0))
+        .nth(nth)
+}
+
+/// A table header `[name]` (TOML) or the key `"name"` (JSON, or an inline
+/// table in TOML).
+fn find_header(source: &str, name: &str) -> Option<SourceLocation> {
+    nth_line_starting_with(source, &format!("[{name}]"), 0).or_else(|| find_key(source, name, 0))
 }
 
 /// The line that assigns the string `value` to `key`.
@@ -464,14 +469,5 @@ fn find_table(source: &str, name: &str) -> Option<SourceLocation> {
 /// The `nth` (0-based) top-level `[[kind]]` header in TOML; in JSON, the
 /// `"kind"` key that holds the array.
 fn nth_table(source: &str, kind: &str, nth: usize) -> Option<SourceLocation> {
-    let header = format!("[[{kind}]]");
-    source
-        .lines()
-        .enumerate()
-        .filter_map(|(i, l)| {
-            let t = l.trim_start();
-            t.starts_with(&header).then(|| SourceLocation { line: i + 1, column: l.len() - t.len() + 1 })
-        })
-        .nth(nth)
-        .or_else(|| find_key(source, kind, 0))
+    nth_line_starting_with(source, &format!("[[{kind}]]"), nth).or_else(|| find_key(source, kind, 0))
 }
