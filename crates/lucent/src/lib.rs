@@ -48,6 +48,7 @@ pub mod integrator;
 pub mod interaction;
 pub mod light;
 pub mod material;
+pub mod mesh;
 pub mod render;
 pub mod sampling;
 pub mod scene;

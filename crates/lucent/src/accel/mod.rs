@@ -2,6 +2,12 @@
 //! hits. This release has the linear list; the interface is what a BVH will
 //! implement.
 
+mod bvh;
+mod mesh_bvh;
+
+pub use bvh::{BoxRay, Bvh, BvhNode, MAX_LEAF_SIZE};
+pub use mesh_bvh::{MeshBvh, MeshHit};
+
 use crate::geometry::{Bounds3, Ray};
 use crate::interaction::SurfaceInteraction;
 use crate::scene::Primitive;

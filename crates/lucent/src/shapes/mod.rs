@@ -9,6 +9,7 @@
 mod plane;
 mod sphere;
 mod triangle;
+pub mod watertight;
 
 pub use plane::Plane;
 pub use sphere::Sphere;

@@ -1,4 +1,5 @@
 use super::{check_finite, ShapeError, ShapeHit};
+use super::watertight::{intersect_triangle, WatertightRay};
 use crate::geometry::{gamma, Bounds3, Ray, Vec2, Vec3};
 
 /// A triangle given by three corners, flat-shaded, or smooth-shaded when a
@@ -22,21 +23,6 @@ pub struct Triangle {
     p: [Vec3; 3],
     n: Vec3,
     normals: Option<[Vec3; 3]>,
-}
-
-/// `a b - c d` with one rounding, via the FMA trick of Kahan (PBRT 4th ed.,
-/// §B.2.9).
-#[inline]
-fn difference_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
-    let cd = c * d;
-    let err = (-c).mul_add(d, cd);
-    let dop = a.mul_add(b, -cd);
-    dop + err
-}
-
-#[inline]
-fn permute(v: Vec3, x: usize, y: usize, z: usize) -> Vec3 {
-    Vec3::new(v[x], v[y], v[z])
 }
 
 impl Triangle {
@@ -83,107 +69,13 @@ impl Triangle {
         Bounds3::from_points(self.p[0], self.p[1]).union_point(self.p[2])
     }
 
-    /// Watertight ray–triangle test (Woop, Benthin & Wald, "Watertight
-    /// Ray/Triangle Intersection", JCGT 2(1), 2013), with the conservative
-    /// `t > 0` bound of PBRT 4th ed., §6.8.7. Returns `(t, b₀, b₁, b₂)`.
-    ///
-    /// The ray is sheared so that it runs along +z from the origin; the edge
-    /// functions of the projected triangle then decide inclusion exactly along
-    /// shared edges: no cracks between neighbours.
+    /// Watertight ray–triangle test (see [`crate::shapes::watertight`]) for
+    /// `0 < t < t_max`. Returns `(t, b₀, b₁, b₂)`.
     #[inline]
     pub fn intersect_t(&self, ray: &Ray, t_max: f32) -> Option<(f32, f32, f32, f32)> {
-        let d_abs = ray.dir.abs();
-        let kz = if d_abs.x > d_abs.y {
-            if d_abs.x > d_abs.z {
-                0
-            } else {
-                2
-            }
-        } else if d_abs.y > d_abs.z {
-            1
-        } else {
-            2
-        };
-        let kx = if kz == 2 { 0 } else { kz + 1 };
-        let ky = if kx == 2 { 0 } else { kx + 1 };
-        let d = permute(ray.dir, kx, ky, kz);
-        let mut p0t = permute(self.p[0] - ray.origin, kx, ky, kz);
-        let mut p1t = permute(self.p[1] - ray.origin, kx, ky, kz);
-        let mut p2t = permute(self.p[2] - ray.origin, kx, ky, kz);
-        // Magnitudes before the shear and the z scaling, for the error bounds
-        // of the sheared x and y below.
-        let max_x0 = Vec3::new(p0t.x, p1t.x, p2t.x).abs().max_element();
-        let max_y0 = Vec3::new(p0t.y, p1t.y, p2t.y).abs().max_element();
-        let max_z0 = Vec3::new(p0t.z, p1t.z, p2t.z).abs().max_element();
-
-        // Shear so that the ray direction becomes +z.
-        let sx = -d.x / d.z;
-        let sy = -d.y / d.z;
-        let sz = 1.0 / d.z;
-        p0t.x += sx * p0t.z;
-        p0t.y += sy * p0t.z;
-        p1t.x += sx * p1t.z;
-        p1t.y += sy * p1t.z;
-        p2t.x += sx * p2t.z;
-        p2t.y += sy * p2t.z;
-
-        let mut e0 = difference_of_products(p1t.x, p2t.y, p1t.y, p2t.x);
-        let mut e1 = difference_of_products(p2t.x, p0t.y, p2t.y, p0t.x);
-        let mut e2 = difference_of_products(p0t.x, p1t.y, p0t.y, p1t.x);
-        if e0 == 0.0 || e1 == 0.0 || e2 == 0.0 {
-            // On an edge in single precision: decide in double precision.
-            let (p0, p1, p2) = (p0t.as_dvec3(), p1t.as_dvec3(), p2t.as_dvec3());
-            e0 = (p1.x * p2.y - p1.y * p2.x) as f32;
-            e1 = (p2.x * p0.y - p2.y * p0.x) as f32;
-            e2 = (p0.x * p1.y - p0.y * p1.x) as f32;
-        }
-        if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
-            return None;
-        }
-        let det = e0 + e1 + e2;
-        if det == 0.0 {
-            return None;
-        }
-
-        p0t.z *= sz;
-        p1t.z *= sz;
-        p2t.z *= sz;
-        let t_scaled = e0 * p0t.z + e1 * p1t.z + e2 * p2t.z;
-        if det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det) {
-            return None;
-        }
-        if det > 0.0 && (t_scaled <= 0.0 || t_scaled > t_max * det) {
-            return None;
-        }
-        let inv_det = 1.0 / det;
-        let (b0, b1, b2) = (e0 * inv_det, e1 * inv_det, e2 * inv_det);
-        let t = t_scaled * inv_det;
-        if t >= t_max {
-            return None;
-        }
-
-        // Reject t that could be ≤ 0 once rounding error is accounted for.
-        let max_zt = Vec3::new(p0t.z, p1t.z, p2t.z).abs().max_element();
-        let delta_z = gamma(3) * max_zt;
-        let max_xt = Vec3::new(p0t.x, p1t.x, p2t.x).abs().max_element();
-        let max_yt = Vec3::new(p0t.y, p1t.y, p2t.y).abs().max_element();
-        // The sheared x' = x + Sx·z carries an error of at most
-        // γ₅(|x| + |Sx·z|), x and z taken before the shear, z unscaled.
-        // (PBRT writes γ₅(max|x'| + max|z·Sz|), bounding |Sx·z| by the
-        // *scaled* z = z/d_z: that ties the bound to the length of the ray
-        // direction — too small for a long direction vector, and for a short
-        // one, or a ray near an axis, so large that δt exceeded t and real
-        // hits were rejected, e.g. a 0.1 mm triangle seen along a direction
-        // of length 1e-5, or a 1 mm triangle 1 km along the z axis.)
-        let delta_x = gamma(5) * (max_x0 + sx.abs() * max_z0);
-        let delta_y = gamma(5) * (max_y0 + sy.abs() * max_z0);
-        let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
-        let max_e = Vec3::new(e0, e1, e2).abs().max_element();
-        let delta_t = 3.0 * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * inv_det.abs();
-        if t <= delta_t {
-            return None;
-        }
-        Some((t, b0, b1, b2))
+        let hit = intersect_triangle(&WatertightRay::new(ray), &self.p, 0.0, t_max)?;
+        // The shared test includes t_max; a shape's interval is open there.
+        (hit.t < t_max).then_some((hit.t, hit.b[0], hit.b[1], hit.b[2]))
     }
 
     /// The nearest intersection with `0 < t < t_max`.
