@@ -114,6 +114,9 @@ fn render_rows(
     integrator: &dyn Integrator,
     options: &RenderOptions,
 ) -> Result<RenderOutput, RenderError> {
+    // Build the acceleration structure up front, in this pool, rather than
+    // lazily inside the first worker to need it.
+    scene.aggregate();
     let start = Instant::now();
     let (w, h) = (scene.camera.width(), scene.camera.height());
     let mut film = Film::new(w, h)?;

@@ -23,8 +23,76 @@ pub trait Aggregate: Send + Sync {
     fn bounds(&self) -> Bounds3;
 }
 
-/// Tests every primitive: exact, and fast enough for scenes of tens of
-/// objects like the classic ones.
+/// The top level of the two-level hierarchy: a BVH over the world bounds of
+/// the scene's primitives (spheres, triangles, placed meshes, each with its
+/// own transform), with unbounded primitives (infinite planes) kept aside
+/// and tested separately. Meshes carry their own object-space BVH, so a mesh
+/// placed a thousand times is stored once and costs one leaf per placement
+/// here.
+#[derive(Clone, Debug, Default)]
+pub struct BvhAggregate {
+    bvh: Bvh,
+    /// Bounded primitives, in BVH leaf order.
+    bounded: Vec<Primitive>,
+    unbounded: Vec<Primitive>,
+}
+
+impl BvhAggregate {
+    /// Build over `primitives` (using the current rayon pool).
+    pub fn new(primitives: &[Primitive]) -> Self {
+        let (unbounded, bounded): (Vec<&Primitive>, Vec<&Primitive>) =
+            primitives.iter().partition(|p| p.bounds().is_infinite());
+        let bounds: Vec<Bounds3> = bounded.iter().map(|p| p.bounds()).collect();
+        let bvh = Bvh::build(&bounds);
+        let ordered = bvh.primitives().iter().map(|&i| bounded[i as usize].clone()).collect();
+        Self { bvh, bounded: ordered, unbounded: unbounded.into_iter().cloned().collect() }
+    }
+
+    /// Heap bytes of the top-level structure (meshes not included).
+    pub fn memory_bytes(&self) -> usize {
+        self.bvh.memory_bytes()
+            + (self.bounded.capacity() + self.unbounded.capacity()) * std::mem::size_of::<Primitive>()
+    }
+}
+
+impl Aggregate for BvhAggregate {
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
+        let mut t_max = t_max;
+        let mut closest = None;
+        for prim in &self.unbounded {
+            if let Some(si) = prim.intersect(ray, t_max) {
+                t_max = si.t;
+                closest = Some(si);
+            }
+        }
+        let box_ray = BoxRay::new(ray.origin, ray.dir);
+        // Box tests use a closed interval; primitives keep t < t_max open.
+        self.bvh.traverse_closest(&box_ray, 0.0, &mut t_max, |slot, t_max| match self.bounded[slot].intersect(ray, *t_max) {
+            Some(si) => {
+                *t_max = si.t;
+                closest = Some(si);
+                true
+            }
+            None => false,
+        });
+        closest
+    }
+
+    fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
+        if self.unbounded.iter().any(|p| p.intersect_p(ray, t_max)) {
+            return true;
+        }
+        let box_ray = BoxRay::new(ray.origin, ray.dir);
+        self.bvh.traverse_any(&box_ray, 0.0, t_max, |slot| self.bounded[slot].intersect_p(ray, t_max))
+    }
+
+    fn bounds(&self) -> Bounds3 {
+        self.unbounded.iter().fold(self.bvh.bounds(), |b, p| b.union(&p.bounds()))
+    }
+}
+
+/// Tests every primitive: exact and simple; the reference the BVH is tested
+/// against.
 #[derive(Clone, Debug, Default)]
 pub struct LinearAggregate {
     primitives: Vec<Primitive>,

@@ -24,7 +24,8 @@ pub use error::{SceneError, SourceLocation};
 pub use load::{load_scene, parse_scene, SceneFile, SceneFormat};
 pub use primitive::Primitive;
 
-use crate::accel::{Aggregate, LinearAggregate};
+use crate::accel::{Aggregate, BvhAggregate};
+use std::sync::OnceLock;
 use crate::camera::Camera;
 use crate::color::Color;
 use crate::geometry::Ray;
@@ -57,7 +58,12 @@ pub struct Scene {
     pub ambient: Color,
     lights: Vec<Light>,
     materials: Vec<Material>,
-    aggregate: LinearAggregate,
+    primitives: Vec<Primitive>,
+    /// Built on first use, after the last [`Scene::add`].
+    aggregate: OnceLock<BvhAggregate>,
+    /// Non-fatal problems found while loading (e.g. skipped degenerate
+    /// triangles), for the user.
+    pub warnings: Vec<String>,
 }
 
 impl Scene {
@@ -69,7 +75,9 @@ impl Scene {
             ambient: Color::ZERO,
             lights: Vec::new(),
             materials: Vec::new(),
-            aggregate: LinearAggregate::default(),
+            primitives: Vec::new(),
+            aggregate: OnceLock::new(),
+            warnings: Vec::new(),
         }
     }
 
@@ -82,7 +90,8 @@ impl Scene {
     /// Add a primitive. Its material must come from this scene.
     pub fn add(&mut self, primitive: Primitive) {
         assert!(primitive.material().index() < self.materials.len(), "material handle from another scene");
-        self.aggregate.push(primitive);
+        self.primitives.push(primitive);
+        self.aggregate = OnceLock::new();
     }
 
     /// Add a light.
@@ -108,18 +117,24 @@ impl Scene {
 
     /// The primitives.
     pub fn primitives(&self) -> &[Primitive] {
-        self.aggregate.primitives()
+        &self.primitives
+    }
+
+    /// The acceleration structure, built now if it has not been yet. Calling
+    /// this before rendering keeps the build out of the render time.
+    pub fn aggregate(&self) -> &BvhAggregate {
+        self.aggregate.get_or_init(|| BvhAggregate::new(&self.primitives))
     }
 
     /// The nearest surface hit by `ray` with `0 < t < t_max`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
-        self.aggregate.intersect(ray, t_max)
+        self.aggregate().intersect(ray, t_max)
     }
 
     /// Whether anything blocks `ray` for `0 < t < t_max`.
     #[inline]
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
-        self.aggregate.intersect_p(ray, t_max)
+        self.aggregate().intersect_p(ray, t_max)
     }
 }

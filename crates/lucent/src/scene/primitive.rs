@@ -2,6 +2,7 @@ use super::MaterialId;
 use crate::geometry::{Bounds3, Ray, Transform};
 use crate::interaction::SurfaceInteraction;
 use crate::shapes::Shape;
+use std::sync::Arc;
 
 /// A shape placed in the world: the shape in its object space, the
 /// transform from object to world space, and its material.
@@ -12,13 +13,34 @@ pub struct Primitive {
     /// matrix products per test.
     transform: Option<Transform>,
     material: MaterialId,
+    /// For meshes with their own materials: scene material of each
+    /// mesh-local material index.
+    face_materials: Option<Arc<[MaterialId]>>,
 }
 
 impl Primitive {
     /// Place `shape` in the world with `transform` (object to world).
     pub fn new(shape: impl Into<Shape>, transform: Transform, material: MaterialId) -> Self {
         let transform = (!transform.is_identity()).then_some(transform);
-        Self { shape: shape.into(), transform, material }
+        Self { shape: shape.into(), transform, material, face_materials: None }
+    }
+
+    /// Give a mesh's faces the materials its file assigns them:
+    /// `table[i]` is the scene material of the mesh's material `i`. Faces
+    /// without an assignment keep the primitive's material.
+    pub fn with_face_materials(mut self, table: Arc<[MaterialId]>) -> Self {
+        self.face_materials = Some(table);
+        self
+    }
+
+    #[inline]
+    fn material_at(&self, face: u32) -> MaterialId {
+        if let (Some(table), Shape::Mesh(mesh)) = (&self.face_materials, &self.shape) {
+            if let Some(&m) = mesh.material_of(face).and_then(|i| table.get(i as usize)) {
+                return m;
+            }
+        }
+        self.material
     }
 
     /// The shape, in object space.
@@ -63,7 +85,7 @@ impl Primitive {
                 (p, err, n, ns)
             }
         };
-        Some(SurfaceInteraction { t: hit.t, p, p_error, n, ns, uv: hit.uv, material: self.material })
+        Some(SurfaceInteraction { t: hit.t, p, p_error, n, ns, uv: hit.uv, material: self.material_at(hit.face) })
     }
 
     /// Whether any hit with `0 < t < t_max` exists.

@@ -6,16 +6,19 @@
 //! conservative bound on its floating-point error, so that rays spawned from
 //! it can be offset robustly (see [`crate::geometry::offset_ray_origin`]).
 
+mod mesh;
 mod plane;
 mod sphere;
 mod triangle;
 pub mod watertight;
 
+pub use mesh::Mesh;
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
 
 use crate::geometry::{Bounds3, Ray, Vec2, Vec3};
+use std::sync::Arc;
 
 /// Why a shape cannot be built from the given parameters.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -32,6 +35,9 @@ pub enum ShapeError {
     /// A coordinate is infinite or NaN.
     #[error("a coordinate is not a finite number")]
     NonFinite,
+    /// A mesh is inconsistent.
+    #[error("{0}")]
+    BadMesh(String),
 }
 
 /// The local geometry at a ray–shape intersection, in the shape's space.
@@ -49,6 +55,8 @@ pub struct ShapeHit {
     pub ns: Vec3,
     /// Surface parameterisation, used by textures (see each shape).
     pub uv: Vec2,
+    /// Which face of a mesh was hit (0 for other shapes).
+    pub face: u32,
 }
 
 /// The shapes lucent knows. An enum rather than a trait object: dispatch is a
@@ -61,6 +69,8 @@ pub enum Shape {
     Plane(Plane),
     /// A flat or smooth-shaded triangle.
     Triangle(Triangle),
+    /// A triangle mesh with its own BVH, shared by every placement of it.
+    Mesh(Arc<Mesh>),
 }
 
 impl Shape {
@@ -71,6 +81,7 @@ impl Shape {
             Shape::Sphere(s) => s.intersect(ray, t_max),
             Shape::Plane(s) => s.intersect(ray, t_max),
             Shape::Triangle(s) => s.intersect(ray, t_max),
+            Shape::Mesh(s) => s.intersect(ray, t_max),
         }
     }
 
@@ -81,6 +92,7 @@ impl Shape {
             Shape::Sphere(s) => s.intersect_p(ray, t_max),
             Shape::Plane(s) => s.intersect(ray, t_max).is_some(),
             Shape::Triangle(s) => s.intersect_t(ray, t_max).is_some(),
+            Shape::Mesh(s) => s.intersect_p(ray, t_max),
         }
     }
 
@@ -90,6 +102,7 @@ impl Shape {
             Shape::Sphere(s) => s.bounds(),
             Shape::Plane(_) => Bounds3::INFINITE,
             Shape::Triangle(s) => s.bounds(),
+            Shape::Mesh(s) => s.bounds(),
         }
     }
 }
@@ -102,6 +115,11 @@ impl From<Sphere> for Shape {
 impl From<Plane> for Shape {
     fn from(s: Plane) -> Self {
         Shape::Plane(s)
+    }
+}
+impl From<Arc<Mesh>> for Shape {
+    fn from(s: Arc<Mesh>) -> Self {
+        Shape::Mesh(s)
     }
 }
 impl From<Triangle> for Shape {

@@ -95,7 +95,7 @@ impl Triangle {
                 (n, ns)
             }
         };
-        Some(ShapeHit { t, p, p_error, n, ns, uv: Vec2::new(b1, b2) })
+        Some(ShapeHit { t, p, p_error, n, ns, uv: Vec2::new(b1, b2), face: 0 })
     }
 }
 
