@@ -1,8 +1,44 @@
 //! Triangle meshes and the loaders that read them (PLY, OBJ with MTL, lists
 //! of PLY files) or make them (UV spheres).
+//!
+//! Every loader returns one [`TriangleMesh`]: f32 vertex positions, triangles
+//! as three `u32` indices, optional per-vertex normals and optional
+//! per-triangle material ids.
+//!
+//! | entry point | input |
+//! |---|---|
+//! | [`load_mesh`] | a `.ply` or `.obj` file, chosen by extension |
+//! | [`load_ply`], [`parse_ply`] | PLY, ascii or binary (either byte order): [`ply`] |
+//! | [`load_obj`], [`parse_obj`] | Wavefront OBJ with its MTL materials: [`obj`] |
+//! | [`load_mesh_list`] | a text file listing PLY files, merged: [`raybench`] |
+//! | [`uv_sphere`] | the benchmark's procedural UV sphere: [`sphere`] |
+//! | [`load_raybench_mesh`] | the `MESH` argument of the raybench protocol: `sphere:STACKS:SLICES`, a PLY file or a list file |
+//!
+//! The PLY, list and sphere loaders follow section 1 of the raybench
+//! protocol (`../shared/tools/raybench/SPEC.md`) bit for bit, so that lucent
+//! and the Embree reference trace exactly the same triangles. In particular
+//! degenerate (zero-area) triangles are *kept* by every loader: the
+//! benchmark counts them. [`TriangleMesh::remove_degenerate`] drops them
+//! when a caller wants, and [`TriangleMesh::compute_smooth_normals`] makes
+//! normals for a mesh that has none.
+//!
+//! Loaders fail with a [`MeshError`] that names the file and, for text
+//! formats, the line; they never panic on bad input and check the sizes a
+//! file declares against its length before allocating anything.
 
 use crate::geometry::{Bounds3, Vec3};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+mod normals;
+pub mod obj;
+pub mod ply;
+pub mod raybench;
+pub mod sphere;
+
+pub use obj::{load_obj, parse_obj};
+pub use ply::{load_ply, parse_ply};
+pub use raybench::{load_mesh_list, load_raybench_mesh};
+pub use sphere::uv_sphere;
 
 /// Why a mesh could not be loaded.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -26,12 +62,35 @@ impl MeshError {
 pub struct MeshMaterial {
     /// Material name in the file.
     pub name: String,
-    /// Diffuse colour `Kd`.
+    /// Diffuse colour `Kd` ([`MeshMaterial::DEFAULT_DIFFUSE`] when absent).
     pub diffuse: Vec3,
     /// Specular colour `Ks` (zero when absent).
     pub specular: Vec3,
-    /// Specular exponent `Ns`.
+    /// Specular exponent `Ns` ([`MeshMaterial::DEFAULT_SHININESS`] when
+    /// absent).
     pub shininess: f32,
+    /// Emitted radiance `Ke` (zero when absent), e.g. the light of the
+    /// Cornell box.
+    pub emission: Vec3,
+}
+
+impl MeshMaterial {
+    /// Diffuse colour of a material without `Kd` (and of the material given
+    /// to faces that have none): a light grey.
+    pub const DEFAULT_DIFFUSE: Vec3 = Vec3::splat(0.8);
+    /// Specular exponent of a material without `Ns`.
+    pub const DEFAULT_SHININESS: f32 = 1.0;
+
+    /// A grey, matte material named `name`: the defaults of every field.
+    pub fn named(name: impl Into<String>) -> Self {
+        Self {
+            name: name.into(),
+            diffuse: Self::DEFAULT_DIFFUSE,
+            specular: Vec3::ZERO,
+            shininess: Self::DEFAULT_SHININESS,
+            emission: Vec3::ZERO,
+        }
+    }
 }
 
 /// An indexed triangle mesh.
@@ -42,7 +101,7 @@ pub struct TriangleMesh {
     /// Triangles as three indices into `positions` (and `normals`).
     pub indices: Vec<[u32; 3]>,
     /// Per-vertex normals, for smooth shading, if the file has them (or they
-    /// were computed).
+    /// were computed). Loaders store them normalized, one per position.
     pub normals: Option<Vec<Vec3>>,
     /// Per-triangle index into `materials`, when the file assigns materials.
     pub material_ids: Option<Vec<u32>>,
@@ -56,6 +115,11 @@ impl TriangleMesh {
         self.indices.len()
     }
 
+    /// Number of vertices (used by a triangle or not).
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
     /// Bounds of all vertices (used or not).
     pub fn bounds(&self) -> Bounds3 {
         self.positions.iter().fold(Bounds3::EMPTY, |b, &p| b.union_point(p))
@@ -66,5 +130,100 @@ impl TriangleMesh {
     pub fn triangle(&self, i: usize) -> [Vec3; 3] {
         let [a, b, c] = self.indices[i];
         [self.positions[a as usize], self.positions[b as usize], self.positions[c as usize]]
+    }
+}
+
+/// The accepted extensions of [`load_mesh`], for messages.
+const MESH_EXTENSIONS: &str = ".ply or .obj";
+
+/// Loads a mesh file, choosing the format by the extension of `path`
+/// (case-insensitive): `.ply` ([`load_ply`]) or `.obj` ([`load_obj`]).
+///
+/// Any other extension is an error that lists the accepted ones. (A list of
+/// PLY files, which has no fixed extension, is read by [`load_mesh_list`] or
+/// [`load_raybench_mesh`].)
+pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshError> {
+    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("ply") => load_ply(path),
+        Some("obj") => load_obj(path),
+        Some(other) => Err(MeshError::new(
+            path,
+            format!("unknown mesh format '.{other}': the file name must end in {MESH_EXTENSIONS}"),
+        )),
+        None => Err(MeshError::new(
+            path,
+            format!("the file name has no extension, so the mesh format is unknown: it must end in {MESH_EXTENSIONS}"),
+        )),
+    }
+}
+
+/// Reads a whole file, with a located error.
+fn read_file(path: &Path) -> Result<Vec<u8>, MeshError> {
+    std::fs::read(path).map_err(|e| MeshError::new(path, format!("cannot read the file: {e}")))
+}
+
+/// An empty vector with room for `n` items, or an error (instead of an
+/// abort) when that much memory cannot be had.
+fn vec_with_capacity<T>(n: usize, what: &str, path: &Path) -> Result<Vec<T>, MeshError> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| {
+        MeshError::new(
+            path,
+            format!("cannot allocate memory for {n} {what} ({} bytes)", (n as u128) * std::mem::size_of::<T>() as u128),
+        )
+    })?;
+    Ok(v)
+}
+
+/// Normalizes loaded normals in place; `None` when one of them is zero or
+/// not finite (the caller then computes its own, e.g. with
+/// [`TriangleMesh::compute_smooth_normals`]).
+fn normalized_normals(mut normals: Vec<Vec3>) -> Option<Vec<Vec3>> {
+    for n in &mut normals {
+        let len = n.length();
+        if !(len.is_finite() && len > 0.0) {
+            return None;
+        }
+        *n /= len;
+        if !n.is_finite() {
+            return None;
+        }
+    }
+    Some(normals)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn load_mesh_rejects_unknown_extensions() {
+        let e = load_mesh(Path::new("model.stl")).unwrap_err();
+        assert!(e.message.contains("'.stl'") && e.message.contains(".ply or .obj"), "{e}");
+        let e = load_mesh(Path::new("model")).unwrap_err();
+        assert!(e.message.contains("no extension") && e.message.contains(".ply or .obj"), "{e}");
+    }
+
+    #[test]
+    fn load_mesh_extension_is_case_insensitive() {
+        // The file does not exist: the error must come from the PLY / OBJ loader.
+        let e = load_mesh(Path::new("/nonexistent/model.PLY")).unwrap_err();
+        assert!(e.message.contains("cannot read"), "{e}");
+        let e = load_mesh(Path::new("/nonexistent/model.Obj")).unwrap_err();
+        assert!(e.message.contains("cannot read"), "{e}");
+    }
+
+    #[test]
+    fn normalized_normals_drops_bad_sets() {
+        assert_eq!(normalized_normals(vec![Vec3::new(0.0, 2.0, 0.0)]), Some(vec![Vec3::Y]));
+        assert_eq!(normalized_normals(vec![Vec3::Y, Vec3::ZERO]), None);
+        assert_eq!(normalized_normals(vec![Vec3::new(f32::NAN, 0.0, 1.0)]), None);
+    }
+
+    #[test]
+    fn vec_with_capacity_fails_cleanly() {
+        let e = vec_with_capacity::<[u32; 3]>(usize::MAX / 4, "triangles", Path::new("x")).unwrap_err();
+        assert!(e.message.contains("cannot allocate"), "{e}");
     }
 }
