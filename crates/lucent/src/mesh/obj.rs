@@ -9,7 +9,8 @@
 //!   fewer than 3 vertices give no triangle.
 //! * Faces are triangulated as fans `(v0, vi, vi+1)`, in order, like PLY
 //!   faces. Degenerate triangles are kept.
-//! * All objects (`o`) and groups (`g`) are merged into one mesh. A vertex of
+//! * All objects (`o`) and groups (`g`) are merged into one mesh, with only
+//!   the vertices that faces use (unlike PLY, where every vertex is kept). A vertex of
 //!   the mesh is a distinct (position, normal) pair: corners that share both,
 //!   bit for bit, share a vertex, across groups too, so smooth normals
 //!   computed later have no seams at group or material boundaries.
@@ -259,7 +260,8 @@ fn clean_mtl(data: &[u8], file: &Path) -> Result<Vec<u8>, MeshError> {
         if n > 0 {
             out.push('\n');
         }
-        let words: Vec<&str> = line.split_ascii_whitespace().collect();
+        // Up to a comment: "Ka 0.63 0.065 0.05 # Red".
+        let words: Vec<&str> = line.split_ascii_whitespace().take_while(|w| !w.starts_with('#')).collect();
         match words[..] {
             [key @ ("Ka" | "Kd" | "Ks" | "Ke"), r] => out.push_str(&format!("{key} {r} {r} {r}")),
             [key @ ("Ka" | "Kd" | "Ks" | "Ke"), ..] if words.len() != 4 => {

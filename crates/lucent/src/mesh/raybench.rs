@@ -4,10 +4,10 @@
 //! `MESH` is, in this order of precedence:
 //!
 //! 1. `sphere:STACKS:SLICES` when it starts with `sphere:`: the UV sphere of
-//!    [`uv_sphere`](super::uv_sphere), with decimal `STACKS >= 2` and
+//!    [`uv_sphere`], with decimal `STACKS >= 2` and
 //!    `SLICES >= 3`;
 //! 2. a PLY file when the file's first four bytes are `ply\n` or `ply\r`
-//!    ([`parse_ply`](super::parse_ply));
+//!    ([`parse_ply`]);
 //! 3. otherwise a *list file*: a text file with one PLY path per line.
 //!    Leading and trailing spaces, tabs and CRs are removed; empty lines and
 //!    lines starting with `#` are skipped; a relative path is relative to
@@ -21,7 +21,7 @@
 //! Normals are kept only when every file of a list has them.
 
 use super::ply::parse_ply_allow_empty;
-use super::{read_file, uv_sphere, MeshError, TriangleMesh};
+use super::{parse_ply, read_file, uv_sphere, MeshError, TriangleMesh};
 use std::path::{Path, PathBuf};
 
 /// Whether `bytes` start the way the protocol recognizes a PLY file.
@@ -44,7 +44,7 @@ pub fn load_raybench_mesh(arg: &str) -> Result<TriangleMesh, MeshError> {
     let path = Path::new(arg);
     let bytes = read_file(path)?;
     if looks_like_ply(&bytes) {
-        super::parse_ply(&bytes, path)
+        parse_ply(&bytes, path)
     } else {
         parse_mesh_list(&bytes, path)
     }
