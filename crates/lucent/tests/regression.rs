@@ -60,8 +60,17 @@ fn scenes_match_their_reference_images() {
     let mut failures = Vec::new();
     let files = scene_files();
     assert!(!files.is_empty(), "no scenes found");
+    let shared = repo_root().join("../shared");
     for path in &files {
         let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+        // Scenes with models from ../shared (not part of the repository)
+        // are skipped without it, except in CI, where it must be present.
+        let needs_shared = std::fs::read_to_string(path).unwrap().contains("shared/data/");
+        if needs_shared && !shared.exists() {
+            assert!(std::env::var("CI").as_deref() != Ok("true"), "{name} needs ../shared, which CI must provide");
+            eprintln!("skipping {name}: ../shared is absent");
+            continue;
+        }
         let (w, h, pixels) = render_small(path);
         let ref_path = ref_dir.join(format!("{name}.png"));
         if bless {

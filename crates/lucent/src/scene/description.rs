@@ -266,6 +266,18 @@ pub struct SceneDescription {
     /// Groups of objects with a shared transform.
     #[serde(default)]
     pub group: Vec<GroupDesc>,
+    /// Named mesh files, loaded once and placed by `[[mesh]] mesh = "NAME"`.
+    #[serde(default)]
+    pub meshes: BTreeMap<String, MeshFileDesc>,
+    /// Placed meshes.
+    #[serde(default)]
+    pub mesh: Vec<MeshDesc>,
+    /// Named groups defined once and placed by `[[instance]]`.
+    #[serde(default)]
+    pub prototypes: BTreeMap<String, GroupDesc>,
+    /// Placements of prototypes.
+    #[serde(default)]
+    pub instance: Vec<InstanceDesc>,
 }
 
 /// The `[camera]` table.
@@ -737,4 +749,76 @@ pub struct GroupDesc {
     /// Nested groups.
     #[serde(default)]
     pub group: Vec<GroupDesc>,
+    /// Member meshes.
+    #[serde(default)]
+    pub mesh: Vec<MeshDesc>,
+    /// Member placements of prototypes.
+    #[serde(default)]
+    pub instance: Vec<InstanceDesc>,
+}
+
+/// How a mesh gets its shading normals.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum NormalsDesc {
+    /// The file's vertex normals if it has them, else flat shading.
+    #[default]
+    File,
+    /// Computed smooth normals (angle-weighted), whatever the file has.
+    Smooth,
+    /// Flat shading: the geometric normal of each triangle.
+    Flat,
+}
+
+/// A `[meshes.NAME]` table: a mesh file loaded once.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshFileDesc {
+    /// Path of a `.ply` or `.obj` file, relative to the scene file.
+    pub file: String,
+    /// Shading normals (default `file`).
+    #[serde(default)]
+    pub normals: NormalsDesc,
+}
+
+/// A `[[mesh]]`: a mesh placed in the scene.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshDesc {
+    /// Optional name for messages.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// A mesh defined under `[meshes]`; or give `file`.
+    #[serde(default)]
+    pub mesh: Option<String>,
+    /// A mesh file (relative to the scene file); or give `mesh`.
+    #[serde(default)]
+    pub file: Option<String>,
+    /// Shading normals, with `file` (default `file`).
+    #[serde(default)]
+    pub normals: Option<NormalsDesc>,
+    /// Material of every face; without it, an OBJ's own materials are used,
+    /// else the group's material.
+    #[serde(default)]
+    pub material: Option<String>,
+    /// Object transform.
+    #[serde(default)]
+    pub transform: Vec<TransformOp>,
+}
+
+/// An `[[instance]]`: a prototype placed with its own transform.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InstanceDesc {
+    /// Optional name for messages.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// The prototype, a name under `[prototypes]`.
+    pub prototype: String,
+    /// Replaces the material of every member, when given.
+    #[serde(default)]
+    pub material: Option<String>,
+    /// Applied after the prototype's own transform.
+    #[serde(default)]
+    pub transform: Vec<TransformOp>,
 }

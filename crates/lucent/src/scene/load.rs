@@ -10,10 +10,11 @@ use crate::geometry::{Mat4, Transform, Vec3};
 use crate::light::{Falloff, Light};
 use crate::material::Material;
 use crate::render::RenderSettings;
-use crate::shapes::{Plane, Shape, Sphere, Triangle};
+use crate::shapes::{Mesh, Plane, Shape, Sphere, Triangle};
 use crate::texture::Texture;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// The two scene syntaxes; the structure is the same.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -174,7 +175,7 @@ impl SceneFile {
         let mut ids = HashMap::new();
         for (name, m) in &d.materials {
             let material = self.material(name, m)?;
-            ids.insert(name.as_str(), scene.add_material(material));
+            ids.insert(name.clone(), scene.add_material(material));
         }
 
         for (i, l) in d.point_light.iter().enumerate() {
@@ -218,8 +219,12 @@ impl SceneFile {
             plane: d.plane.clone(),
             triangle: d.triangle.clone(),
             group: d.group.clone(),
+            mesh: d.mesh.clone(),
+            instance: d.instance.clone(),
         };
-        self.add_group(&mut scene, &ids, &root, Transform::IDENTITY, None, Place { label: "", at: None })?;
+        let mut ctx = BuildContext { ids, meshes: HashMap::new(), active_prototypes: Vec::new() };
+        let place = Place { label: "", at: None, forced_material: None };
+        self.add_group(&mut scene, &mut ctx, &root, Transform::IDENTITY, None, place)?;
         Ok(scene)
     }
 
@@ -263,16 +268,28 @@ impl SceneFile {
     fn add_group(
         &self,
         scene: &mut Scene,
-        ids: &HashMap<&str, MaterialId>,
+        ctx: &mut BuildContext,
         group: &GroupDesc,
         parent: Transform,
         parent_material: Option<&str>,
         place: Place<'_>,
     ) -> Result<(), SceneError> {
-        let Place { label, at: group_at } = place;
+        let Place { label, at: group_at, forced_material } = place;
         let group_transform = self.transform(&group.transform, label, group_at)?.then(&parent);
         let material = group.material.as_deref().or(parent_material);
-        let add = |kind: &str,
+        // Top-level objects are the n-th `[[kind]]` table of the file;
+        // nested ones are identified by their path in the message and
+        // located at the top-level table that holds them.
+        let locate =
+            |kind: &str, index: usize| if label.is_empty() { nth_table(&self.source, kind, index) } else { group_at };
+        let resolve = |ctx: &BuildContext, what: &str, own: Option<&str>, at| -> Result<MaterialId, SceneError> {
+            let name = forced_material.or(own).or(material).ok_or_else(|| {
+                self.error(at, format!("{what} has no material (set `material`, or one on its group)"))
+            })?;
+            self.material_id(ctx, what, name)
+        };
+        let add = |ctx: &mut BuildContext,
+                   kind: &str,
                    index: usize,
                    name: &Option<String>,
                    shape: Result<Shape, crate::shapes::ShapeError>,
@@ -281,47 +298,161 @@ impl SceneFile {
                    scene: &mut Scene|
          -> Result<(), SceneError> {
             let what = describe(label, kind, index, name);
-            // Top-level objects are the n-th `[[kind]]` table of the file;
-            // nested ones are identified by their path in the message and
-            // located at the top-level `[[group]]` that holds them.
-            let at = if label.is_empty() { nth_table(&self.source, kind, index) } else { group_at };
+            let at = locate(kind, index);
             let shape = shape.map_err(|e| self.error(at, format!("{what}: {e}")))?;
-            let material_name = own_material.as_deref().or(material).ok_or_else(|| {
-                self.error(at, format!("{what} has no material (set `material`, or one on its group)"))
-            })?;
-            let id = *ids.get(material_name).ok_or_else(|| {
-                let mut known: Vec<&str> = ids.keys().copied().collect();
-                known.sort_unstable();
-                let known = if known.is_empty() { "none".to_owned() } else { known.join(", ") };
-                self.error(
-                    find_value(&self.source, "material", material_name),
-                    format!("{what}: material \"{material_name}\" is not defined (defined: {known})"),
-                )
-            })?;
+            let id = resolve(ctx, &what, own_material.as_deref(), at)?;
             let t = self.transform(ops, &what, at)?.then(&group_transform);
             scene.add(Primitive::new(shape, t, id));
             Ok(())
         };
         for (i, s) in group.sphere.iter().enumerate() {
             let shape = Sphere::new(s.center.into(), s.radius.get()).map(Shape::from);
-            add("sphere", i, &s.name, shape, &s.material, &s.transform, scene)?;
+            add(ctx, "sphere", i, &s.name, shape, &s.material, &s.transform, scene)?;
         }
         for (i, p) in group.plane.iter().enumerate() {
             let shape = Plane::new(p.point.into(), p.normal.into()).map(Shape::from);
-            add("plane", i, &p.name, shape, &p.material, &p.transform, scene)?;
+            add(ctx, "plane", i, &p.name, shape, &p.material, &p.transform, scene)?;
         }
         for (i, t) in group.triangle.iter().enumerate() {
             let v = t.vertices.map(Vec3::from);
             let n = t.normals.map(|n| n.map(Vec3::from));
             let shape = Triangle::new(v, n).map(Shape::from);
-            add("triangle", i, &t.name, shape, &t.material, &t.transform, scene)?;
+            add(ctx, "triangle", i, &t.name, shape, &t.material, &t.transform, scene)?;
+        }
+        for (i, m) in group.mesh.iter().enumerate() {
+            let what = describe(label, "mesh", i, &m.name);
+            let at = locate("mesh", i);
+            let (mesh, file_materials) = self.mesh(scene, ctx, m, &what, at)?;
+            let t = self.transform(&m.transform, &what, at)?.then(&group_transform);
+            let explicit = forced_material.or(m.material.as_deref());
+            let primitive = match (explicit, file_materials) {
+                (None, Some(table)) => {
+                    // The file's own materials; a face without one falls back
+                    // to the group's material, or the file's first.
+                    let fallback = match material {
+                        Some(name) => self.material_id(ctx, &what, name)?,
+                        None => table[0],
+                    };
+                    Primitive::new(Shape::Mesh(mesh), t, fallback).with_face_materials(table)
+                }
+                _ => Primitive::new(Shape::Mesh(mesh), t, resolve(ctx, &what, m.material.as_deref(), at)?),
+            };
+            scene.add(primitive);
         }
         for (i, g) in group.group.iter().enumerate() {
             let child_label = describe(label, "group", i, &g.name);
-            let child_at = if label.is_empty() { nth_table(&self.source, "group", i) } else { group_at };
-            self.add_group(scene, ids, g, group_transform, material, Place { label: &child_label, at: child_at })?;
+            let child_at = locate("group", i);
+            let place = Place { label: &child_label, at: child_at, forced_material };
+            self.add_group(scene, ctx, g, group_transform, material, place)?;
+        }
+        for (i, inst) in group.instance.iter().enumerate() {
+            let what = describe(label, "instance", i, &inst.name);
+            let at = locate("instance", i);
+            let Some(prototype) = self.description.prototypes.get(&inst.prototype) else {
+                let known: Vec<&str> = self.description.prototypes.keys().map(String::as_str).collect();
+                let known = if known.is_empty() { "none".to_owned() } else { known.join(", ") };
+                return Err(self.error(
+                    find_value(&self.source, "prototype", &inst.prototype).or(at),
+                    format!("{what}: prototype \"{}\" is not defined (defined: {known})", inst.prototype),
+                ));
+            };
+            if ctx.active_prototypes.contains(&inst.prototype) {
+                return Err(self.error(at, format!("{what}: prototype \"{}\" contains itself", inst.prototype)));
+            }
+            let t = self.transform(&inst.transform, &what, at)?.then(&group_transform);
+            let child_label = format!("{what} of \"{}\"", inst.prototype);
+            let forced = forced_material.or(inst.material.as_deref());
+            ctx.active_prototypes.push(inst.prototype.clone());
+            let place = Place { label: &child_label, at, forced_material: forced };
+            let result = self.add_group(scene, ctx, prototype, t, material, place);
+            ctx.active_prototypes.pop();
+            result?;
         }
         Ok(())
+    }
+
+    fn material_id(&self, ctx: &BuildContext, what: &str, name: &str) -> Result<MaterialId, SceneError> {
+        ctx.ids.get(name).copied().ok_or_else(|| {
+            let mut known: Vec<&str> = ctx.ids.keys().map(String::as_str).filter(|k| !k.contains(':')).collect();
+            known.sort_unstable();
+            let known = if known.is_empty() { "none".to_owned() } else { known.join(", ") };
+            self.error(
+                find_value(&self.source, "material", name),
+                format!("{what}: material \"{name}\" is not defined (defined: {known})"),
+            )
+        })
+    }
+
+    /// Load (once) the mesh a `[[mesh]]` refers to; returns it with the
+    /// scene materials made from the file's own materials, if it has any.
+    fn mesh(
+        &self,
+        scene: &mut Scene,
+        ctx: &mut BuildContext,
+        m: &MeshDesc,
+        what: &str,
+        at: Option<SourceLocation>,
+    ) -> Result<(Arc<Mesh>, Option<Arc<[MaterialId]>>), SceneError> {
+        let (file, normals) = match (&m.mesh, &m.file) {
+            (Some(name), None) => {
+                if m.normals.is_some() {
+                    return Err(
+                        self.error(at, format!("{what}: `normals` belongs to [meshes.{name}], not to a placement"))
+                    );
+                }
+                let def = self.description.meshes.get(name).ok_or_else(|| {
+                    let known: Vec<&str> = self.description.meshes.keys().map(String::as_str).collect();
+                    let known = if known.is_empty() { "none".to_owned() } else { known.join(", ") };
+                    self.error(
+                        find_value(&self.source, "mesh", name).or(at),
+                        format!("{what}: mesh \"{name}\" is not defined under [meshes] (defined: {known})"),
+                    )
+                })?;
+                (def.file.as_str(), def.normals)
+            }
+            (None, Some(file)) => (file.as_str(), m.normals.unwrap_or_default()),
+            _ => return Err(self.error(at, format!("{what}: give either `mesh` (a name under [meshes]) or `file`"))),
+        };
+        let path = match self.path.as_ref().and_then(|p| p.parent()) {
+            Some(dir) => dir.join(file),
+            None => PathBuf::from(file),
+        };
+        let key = (path.clone(), normals);
+        if let Some(found) = ctx.meshes.get(&key) {
+            return Ok(found.clone());
+        }
+        let file_at = find_value(&self.source, "file", file).or(at);
+        let mut data = crate::mesh::load_mesh(&path).map_err(|e| self.error(file_at, format!("{what}: {e}")))?;
+        match normals {
+            NormalsDesc::File => {}
+            NormalsDesc::Smooth => data.compute_smooth_normals(),
+            NormalsDesc::Flat => data.normals = None,
+        }
+        let file_materials = if data.materials.is_empty() || data.material_ids.is_none() {
+            None
+        } else {
+            let table: Vec<MaterialId> = data
+                .materials
+                .iter()
+                .map(|mm| {
+                    let key = format!("{file}:{}", mm.name);
+                    *ctx.ids.entry(key).or_insert_with(|| scene.add_material(material_from_file(mm)))
+                })
+                .collect();
+            Some(Arc::from(table))
+        };
+        let mesh = Mesh::new(data).map_err(|e| self.error(file_at, format!("{what}: {e}")))?;
+        if mesh.degenerate_count() > 0 {
+            scene.warnings.push(format!(
+                "{}: {} zero-area triangle{} skipped",
+                path.display(),
+                mesh.degenerate_count(),
+                if mesh.degenerate_count() == 1 { "" } else { "s" }
+            ));
+        }
+        let entry = (Arc::new(mesh), file_materials);
+        ctx.meshes.insert(key, entry.clone());
+        Ok(entry)
     }
 
     /// The transform of `ops`. Scales and matrices are checked as they are
@@ -356,6 +487,30 @@ impl SceneFile {
 struct Place<'a> {
     label: &'a str,
     at: Option<SourceLocation>,
+    /// An instance's material, replacing every member's.
+    forced_material: Option<&'a str>,
+}
+
+/// State carried through the walk over groups and prototypes.
+struct BuildContext {
+    /// Material names (scene materials, and `FILE:NAME` for a mesh file's
+    /// own) to scene handles.
+    ids: HashMap<String, MaterialId>,
+    /// Meshes loaded so far, by path and normals mode: each file is read and
+    /// built once however often it is placed.
+    meshes: HashMap<(PathBuf, NormalsDesc), (Arc<Mesh>, Option<Arc<[MaterialId]>>)>,
+    /// Prototypes being expanded, to refuse one that contains itself.
+    active_prototypes: Vec<String>,
+}
+
+/// A scene material for one of a mesh file's own materials (OBJ's MTL):
+/// Phong when it has a specular colour, matte otherwise.
+fn material_from_file(m: &crate::mesh::MeshMaterial) -> Material {
+    let kd = Texture::Constant(m.diffuse.max(Vec3::ZERO));
+    let ks = m.specular.max_element().max(0.0);
+    let material =
+        if ks > 0.0 { Material::phong(kd, 1.0, ks, m.shininess.max(1.0), 0.0) } else { Material::matte(kd, 1.0) };
+    material.unwrap_or_else(|_| Material::matte(Color::splat(0.8), 1.0).expect("valid constants"))
 }
 
 fn falloff(f: Option<FalloffDesc>, default: Falloff) -> Falloff {
