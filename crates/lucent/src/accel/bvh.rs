@@ -159,10 +159,9 @@ impl Bvh {
 
     /// World bounds of the whole tree.
     pub fn bounds(&self) -> Bounds3 {
-        self.nodes.first().map_or(Bounds3::EMPTY, |n| Bounds3 {
-            min: Vec3::from_array(n.min),
-            max: Vec3::from_array(n.max),
-        })
+        self.nodes
+            .first()
+            .map_or(Bounds3::EMPTY, |n| Bounds3 { min: Vec3::from_array(n.min), max: Vec3::from_array(n.max) })
     }
 
     /// Heap bytes used by nodes and the primitive list.

@@ -66,9 +66,7 @@ impl MeshBvh {
 
     /// Heap bytes: nodes, triangle copies and index map.
     pub fn memory_bytes(&self) -> usize {
-        self.bvh.memory_bytes()
-            + self.triangles.capacity() * std::mem::size_of::<[Vec3; 3]>()
-            + self.ids.capacity() * 4
+        self.bvh.memory_bytes() + self.triangles.capacity() * std::mem::size_of::<[Vec3; 3]>() + self.ids.capacity() * 4
     }
 
     /// The closest hit with `t ∈ [t_min, t_max]`.

@@ -67,13 +67,15 @@ impl Aggregate for BvhAggregate {
         }
         let box_ray = BoxRay::new(ray.origin, ray.dir);
         // Box tests use a closed interval; primitives keep t < t_max open.
-        self.bvh.traverse_closest(&box_ray, 0.0, &mut t_max, |slot, t_max| match self.bounded[slot].intersect(ray, *t_max) {
-            Some(si) => {
-                *t_max = si.t;
-                closest = Some(si);
-                true
+        self.bvh.traverse_closest(&box_ray, 0.0, &mut t_max, |slot, t_max| {
+            match self.bounded[slot].intersect(ray, *t_max) {
+                Some(si) => {
+                    *t_max = si.t;
+                    closest = Some(si);
+                    true
+                }
+                None => false,
             }
-            None => false,
         });
         closest
     }

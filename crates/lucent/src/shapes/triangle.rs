@@ -1,5 +1,5 @@
-use super::{check_finite, ShapeError, ShapeHit};
 use super::watertight::{intersect_triangle, WatertightRay};
+use super::{check_finite, ShapeError, ShapeHit};
 use crate::geometry::{gamma, Bounds3, Ray, Vec2, Vec3};
 
 /// A triangle given by three corners, flat-shaded, or smooth-shaded when a
