@@ -25,7 +25,6 @@ pub use load::{load_scene, parse_scene, SceneFile, SceneFormat};
 pub use primitive::Primitive;
 
 use crate::accel::{Aggregate, BvhAggregate};
-use std::sync::OnceLock;
 use crate::camera::Camera;
 use crate::color::Color;
 use crate::geometry::Ray;
@@ -33,6 +32,7 @@ use crate::interaction::SurfaceInteraction;
 use crate::light::Light;
 use crate::material::Material;
 use crate::render::RenderSettings;
+use std::sync::OnceLock;
 
 /// Index of a material in its [`Scene`]; only [`Scene::add_material`] makes
 /// one.
