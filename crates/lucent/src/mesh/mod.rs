@@ -12,7 +12,7 @@
 //! | [`load_obj`], [`parse_obj`] | Wavefront OBJ with its MTL materials: [`obj`] |
 //! | [`load_mesh_list`] | a text file listing PLY files, merged: [`raybench`] |
 //! | [`uv_sphere`] | the benchmark's procedural UV sphere: [`sphere`] |
-//! | [`load_raybench_mesh`] | the `MESH` argument of the raybench protocol: `sphere:STACKS:SLICES`, a PLY file or a list file |
+//! | [`load_raybench_mesh`] | raybench's `MESH` argument: `sphere:STACKS:SLICES`, a PLY file or a list file |
 //!
 //! The PLY, list and sphere loaders follow section 1 of the raybench
 //! protocol (`../shared/tools/raybench/SPEC.md`) bit for bit, so that lucent

@@ -313,10 +313,7 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header, MeshError> {
                     (words[2], Kind::Scalar(Scalar::parse(words[1]).ok_or_else(|| unknown(words[1]))?))
                 };
                 if element.props.iter().any(|p| p.name == name) {
-                    return Err(err(
-                        line_no,
-                        format!("element '{}' has two properties named '{name}'", element.name),
-                    ));
+                    return Err(err(line_no, format!("element '{}' has two properties named '{name}'", element.name)));
                 }
                 element.props.push(Property { name: name.to_owned(), kind });
             }
@@ -324,7 +321,8 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header, MeshError> {
                 return Err(err(
                     line_no,
                     format!(
-                        "unknown header line '{line}' (expected format, comment, obj_info, element, property or end_header)"
+                        "unknown header line '{line}' (expected format, comment, obj_info, element, property \
+                         or end_header)"
                     ),
                 ))
             }
@@ -422,8 +420,6 @@ enum ReadError {
 
 /// The data section, ascii or binary.
 trait Source {
-    /// Whether values have fixed sizes (binary), so runs of them can be skipped at once.
-    const BINARY: bool;
     /// A coordinate-like value as an f32, rounded as the protocol says.
     fn f32_value(&mut self, t: Scalar) -> Result<f32, ReadError>;
     /// A value of an integer type.
@@ -491,8 +487,6 @@ impl<'a> Ascii<'a> {
 }
 
 impl Source for Ascii<'_> {
-    const BINARY: bool = false;
-
     #[inline]
     fn f32_value(&mut self, t: Scalar) -> Result<f32, ReadError> {
         let token = self.token()?;
@@ -562,8 +556,6 @@ impl<const BIG: bool> Binary<'_, BIG> {
 }
 
 impl<const BIG: bool> Source for Binary<'_, BIG> {
-    const BINARY: bool = true;
-
     #[inline]
     fn f32_value(&mut self, t: Scalar) -> Result<f32, ReadError> {
         Ok(match t {
@@ -594,15 +586,6 @@ impl<const BIG: bool> Source for Binary<'_, BIG> {
     fn location(&self) -> String {
         String::new()
     }
-}
-
-/// What to do with one property of the vertex element.
-#[derive(Clone, Copy)]
-enum VertexSlot {
-    /// Store into slot 0..6 (x, y, z, nx, ny, nz).
-    Store(usize, Scalar),
-    Skip(Scalar),
-    SkipList(Scalar, Scalar),
 }
 
 /// The message for a read error in `element`, item `item`, property `prop`.
@@ -654,19 +637,16 @@ type Vertices = (Vec<Vec3>, Option<Vec<Vec3>>);
 
 fn read_vertices<S: Source>(e: &Element, src: &mut S, path: &Path) -> Result<Vertices, MeshError> {
     const NAMES: [&str; 6] = ["x", "y", "z", "nx", "ny", "nz"];
-    let slots: Vec<VertexSlot> = e
+    // Per property: the slot (x, y, z, nx, ny, nz) it is stored in, if any.
+    let slots: Vec<Option<(usize, Scalar)>> = e
         .props
         .iter()
         .map(|p| match p.kind {
-            Kind::Scalar(t) => match NAMES.iter().position(|&n| n == p.name) {
-                Some(k) => VertexSlot::Store(k, t),
-                None => VertexSlot::Skip(t),
-            },
-            Kind::List { count, item } => VertexSlot::SkipList(count, item),
+            Kind::Scalar(t) => NAMES.iter().position(|&n| n == p.name).map(|k| (k, t)),
+            Kind::List { .. } => None,
         })
         .collect();
-    let has_normals =
-        ["nx", "ny", "nz"].iter().all(|n| e.props.iter().any(|p| p.name == *n && matches!(p.kind, Kind::Scalar(_))));
+    let has_normals = (3..6).all(|k| slots.iter().any(|s| matches!(s, Some((j, _)) if *j == k)));
     let n = e.count as usize; // at most u32::MAX (checked with the header)
     let mut positions = vec_with_capacity(n, "vertices", path)?;
     let mut normals = if has_normals { Some(vec_with_capacity(n, "normals", path)?) } else { None };
@@ -674,9 +654,8 @@ fn read_vertices<S: Source>(e: &Element, src: &mut S, path: &Path) -> Result<Ver
         let mut v = [0.0f32; 6];
         for (slot, prop) in slots.iter().zip(&e.props) {
             let r = match *slot {
-                VertexSlot::Store(k, t) => src.f32_value(t).map(|x| v[k] = x),
-                VertexSlot::Skip(t) => src.skip(t, 1),
-                VertexSlot::SkipList(count, item) => list_len(src, count).and_then(|len| src.skip(item, len)),
+                Some((k, t)) => src.f32_value(t).map(|x| v[k] = x),
+                None => skip_property(src, prop.kind),
             };
             r.map_err(|err| read_error(path, src, err, e, i, prop))?;
         }
@@ -702,6 +681,15 @@ fn list_len<S: Source>(src: &mut S, t: Scalar) -> Result<u64, ReadError> {
     u64::try_from(n).map_err(|_| ReadError::OutOfRange(format!("list length {n}")))
 }
 
+/// Reads past one value of a property (a list with all its items).
+#[inline]
+fn skip_property<S: Source>(src: &mut S, kind: Kind) -> Result<(), ReadError> {
+    match kind {
+        Kind::Scalar(t) => src.skip(t, 1),
+        Kind::List { count, item } => list_len(src, count).and_then(|len| src.skip(item, len)),
+    }
+}
+
 fn read_faces<S: Source>(e: &Element, nverts: u64, src: &mut S, path: &Path) -> Result<Vec<[u32; 3]>, MeshError> {
     let target = e.props.iter().position(|p| p.name == "vertex_indices" || p.name == "vertex_index");
     let target = target.expect("checked with the header");
@@ -711,11 +699,7 @@ fn read_faces<S: Source>(e: &Element, nverts: u64, src: &mut S, path: &Path) -> 
         for (k, prop) in e.props.iter().enumerate() {
             let fail = |src: &S, err| read_error(path, src, err, e, f, prop);
             match prop.kind {
-                Kind::Scalar(t) => src.skip(t, 1).map_err(|err| fail(src, err))?,
-                Kind::List { count, item } if k != target => {
-                    list_len(src, count).and_then(|len| src.skip(item, len)).map_err(|err| fail(src, err))?
-                }
-                Kind::List { count, item } => {
+                Kind::List { count, item } if k == target => {
                     let len = list_len(src, count).map_err(|err| fail(src, err))?;
                     let (mut first, mut prev) = (0, 0);
                     for j in 0..len {
@@ -724,8 +708,8 @@ fn read_faces<S: Source>(e: &Element, nverts: u64, src: &mut S, path: &Path) -> 
                             return Err(MeshError::new(
                                 path,
                                 format!(
-                                    "{}face {f} has vertex index {idx} (its value {j}), out of range: the file has {nverts} \
-                                     vertices, numbered from 0",
+                                    "{}face {f} has vertex index {idx} (at position {j} in the face), out of range: \
+                                     the file has {nverts} vertices, numbered from 0",
                                     src.location()
                                 ),
                             ));
@@ -734,18 +718,12 @@ fn read_faces<S: Source>(e: &Element, nverts: u64, src: &mut S, path: &Path) -> 
                         match j {
                             0 => first = idx,
                             1 => {}
-                            _ => {
-                                if tris.len() == tris.capacity() {
-                                    tris.try_reserve(tris.len().max(1)).map_err(|_| {
-                                        MeshError::new(path, "cannot allocate memory for the triangles")
-                                    })?;
-                                }
-                                tris.push([first, prev, idx]);
-                            }
+                            _ => tris.push([first, prev, idx]),
                         }
                         prev = idx;
                     }
                 }
+                kind => skip_property(src, kind).map_err(|err| fail(src, err))?,
             }
         }
     }
@@ -756,24 +734,9 @@ fn skip_element<S: Source>(e: &Element, src: &mut S, path: &Path) -> Result<(), 
     if e.props.is_empty() {
         return Ok(()); // no data at all, whatever the count
     }
-    // A binary element of scalars only is skipped in one step.
-    let mut scalars = e.props.iter().map(|p| match p.kind {
-        Kind::Scalar(t) => Some(t),
-        Kind::List { .. } => None,
-    });
-    if let (Some(Some(t)), true) = (scalars.next(), S::BINARY) {
-        if e.props.iter().all(|p| p.kind == Kind::Scalar(t)) {
-            let n = e.count.saturating_mul(e.props.len() as u64);
-            return src.skip(t, n).map_err(|err| read_error(path, src, err, e, 0, &e.props[0]));
-        }
-    }
     for i in 0..e.count {
         for prop in &e.props {
-            match prop.kind {
-                Kind::Scalar(t) => src.skip(t, 1),
-                Kind::List { count, item } => list_len(src, count).and_then(|len| src.skip(item, len)),
-            }
-            .map_err(|err| read_error(path, src, err, e, i, prop))?;
+            skip_property(src, prop.kind).map_err(|err| read_error(path, src, err, e, i, prop))?;
         }
     }
     Ok(())
@@ -792,7 +755,8 @@ mod tests {
     }
 
     const TRI: &str = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
-                       element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1 0 0 0 1 0\n3 0 1 2\n";
+                       element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+                       0 0 0 1 0 0 0 1 0\n3 0 1 2\n";
 
     #[test]
     fn one_triangle() {
@@ -865,7 +829,8 @@ mod tests {
                     property float z\nproperty uchar red\nelement face 1\nproperty int flags\n\
                     property list ushort uint vertex_indices\nproperty list uchar float texcoord\n\
                     element extra 3\nproperty list uchar uchar junk\nend_header\n\
-                    3 0.1 0.2 0.3 7\n0 5\n0 0 0 0 9\n1 2 0.5 0.5 0 0 8\n0 1 0.1 1 0 7\n9 3 0 1 2 2 0.5 0.5\n0\n1 1\n2 2 2\n";
+                    3 0.1 0.2 0.3 7\n0 5\n0 0 0 0 9\n1 2 0.5 0.5 0 0 8\n0 1 0.1 1 0 7\n\
+                    9 3 0 1 2 2 0.5 0.5\n0\n1 1\n2 2 2\n";
         let m = parse(text).unwrap();
         assert_eq!(m.positions, vec![Vec3::ZERO, Vec3::X, Vec3::Y]);
         assert_eq!(m.indices, vec![[0, 1, 2]]);
