@@ -392,7 +392,7 @@ impl SceneFile {
         m: &MeshDesc,
         what: &str,
         at: Option<SourceLocation>,
-    ) -> Result<(Arc<Mesh>, Option<Arc<[MaterialId]>>), SceneError> {
+    ) -> Result<LoadedMesh, SceneError> {
         let (file, normals) = match (&m.mesh, &m.file) {
             (Some(name), None) => {
                 if m.normals.is_some() {
@@ -491,6 +491,10 @@ struct Place<'a> {
     forced_material: Option<&'a str>,
 }
 
+/// A mesh ready to place, with the scene materials of the file's own
+/// materials (by mesh-local index), if it has any.
+type LoadedMesh = (Arc<Mesh>, Option<Arc<[MaterialId]>>);
+
 /// State carried through the walk over groups and prototypes.
 struct BuildContext {
     /// Material names (scene materials, and `FILE:NAME` for a mesh file's
@@ -498,7 +502,7 @@ struct BuildContext {
     ids: HashMap<String, MaterialId>,
     /// Meshes loaded so far, by path and normals mode: each file is read and
     /// built once however often it is placed.
-    meshes: HashMap<(PathBuf, NormalsDesc), (Arc<Mesh>, Option<Arc<[MaterialId]>>)>,
+    meshes: HashMap<(PathBuf, NormalsDesc), LoadedMesh>,
     /// Prototypes being expanded, to refuse one that contains itself.
     active_prototypes: Vec<String>,
 }
