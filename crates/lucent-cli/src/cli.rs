@@ -24,6 +24,10 @@ pub enum Command {
     },
     /// Measure rendering speed (Mrays/s) with 1 thread and with all threads.
     Bench(BenchArgs),
+    /// Benchmark ray traversal on a triangle mesh (the raybench protocol),
+    /// to compare with the Embree reference on the same rays.
+    #[command(long_about = BENCH_RAYS_ABOUT)]
+    BenchRays(BenchRaysArgs),
 }
 
 /// Values that override the scene file's `[render]` table.
@@ -79,6 +83,52 @@ pub struct BenchArgs {
     /// Print the results as JSON.
     #[arg(long)]
     pub json: bool,
+}
+
+const BENCH_RAYS_ABOUT: &str = "Benchmark ray traversal on a triangle mesh, following the raybench
+protocol (shared/tools/raybench/SPEC.md), so that lucent's mesh BVH can be
+compared with the Embree reference (embree_ref) on bit-identical rays.
+
+Three ray sets are generated from the mesh's bounding box: 1024×1024 primary
+rays of a pinhole camera (closest hit); one shadow ray towards a point light
+per primary hit (any hit); 1,048,576 incoherent rays with random origins in
+the box and random directions (closest hit). The BVH is built 3 times
+(median reported); each set is traced once untimed, then in 5 timed passes
+(median reported), one ray at a time, in chunks of 4096 rays handed out
+dynamically to the threads.
+
+Prints the mesh, the build time, and the Mrays/s, hit counts and checksum
+(sum of t over the hits) of each set; with --json, exactly one JSON line
+(SPEC.md section 6) for shared/tools/raybench/compare.py.
+
+Example:
+  lucent bench-rays sphere:500:1000 --threads 2 --json";
+
+/// `lucent bench-rays`: see [`BENCH_RAYS_ABOUT`].
+#[derive(Args, Debug)]
+pub struct BenchRaysArgs {
+    /// The mesh: `sphere:STACKS:SLICES` (a UV sphere of radius 1, STACKS >= 2,
+    /// SLICES >= 3), a PLY file (ascii or binary), or a text file listing PLY
+    /// files, one per line, relative to the list file.
+    #[arg(value_name = "MESH")]
+    pub mesh: String,
+    /// Threads for building and tracing, 1 to 1024; 1 means no parallelism
+    /// at all.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = thread_count())]
+    pub threads: usize,
+    /// Print the results as one JSON line (SPEC.md section 6) instead of a
+    /// table.
+    #[arg(long)]
+    pub json: bool,
+    /// Print the first N rays of each set as f32 bit patterns (SPEC.md
+    /// section 7) and exit without timing; check them with `gen_rays.py
+    /// --check`.
+    #[arg(long, value_name = "N")]
+    pub dump_rays: Option<usize>,
+    /// Timed passes per ray set (the protocol's 5; fewer only for quick
+    /// tests).
+    #[arg(long, hide = true, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub passes: u32,
 }
 
 /// Accepted worker-thread counts: a larger pool only wastes memory.

@@ -10,6 +10,7 @@ macro_rules! say {
 }
 
 mod bench;
+mod bench_rays;
 mod cli;
 mod progress;
 
@@ -25,11 +26,12 @@ use std::process::ExitCode;
 pub const BUILTIN_SCENE: &str = include_str!("../../../scenes/showcase.toml");
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = Cli::try_parse().unwrap_or_else(|e| bench_rays::exit_on_parse_error(e));
     let result = match cli.command {
         Command::Render(args) => run_render(&args),
         Command::Check { scene } => run_check(&scene),
         Command::Bench(args) => bench::run(&args),
+        Command::BenchRays(args) => bench_rays::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
