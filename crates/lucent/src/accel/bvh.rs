@@ -1,32 +1,49 @@
-//! A bounding volume hierarchy over anything with a bounding box.
+//! A four-wide bounding volume hierarchy over anything with a bounding box.
 //!
 //! Built top-down with the surface area heuristic (SAH) evaluated over
 //! binned centroids (Wald, "On fast Construction of SAH-based Bounding Volume
-//! Hierarchies", IEEE RT 2007), in parallel with rayon for large nodes, then
-//! flattened depth-first into 32-byte nodes: the first child of an interior
-//! node is the next node, the second is at `offset`.
+//! Hierarchies", IEEE RT 2007), in parallel with rayon for large nodes. The
+//! binary tree is then collapsed into a tree of four-child nodes by pulling
+//! up the grandchildren with the largest surface area (as Embree's BVH4 and
+//! the MBVH of Ernst & Greiner, "Multi Bounding Volume Hierarchies", IEEE RT
+//! 2008), and flattened depth-first into 128-byte nodes that store their
+//! children's boxes side by side, one array per coordinate: the four box
+//! tests of a node are one pass of four-lane arithmetic that the compiler
+//! turns into SIMD instructions.
 //!
-//! Traversal visits the nearer child first and keeps the farther one on a
-//! small stack; boxes are tested with the slab method, with the far distance
-//! enlarged by `1 + 2γ₃` so that rounding can never make a ray miss a box it
-//! touches (PBRT 4th ed., §6.8.2).
+//! Traversal tests a node's four children at once, visits the hit children
+//! nearest first (the rest wait on a stack with their entry distance, and are
+//! dropped if a closer hit has been found by the time they are popped).
+//! Boxes are tested with the slab method, with the far distance enlarged by
+//! `1 + 2γ₃` so that rounding can never make a ray miss a box it touches
+//! (PBRT 4th ed., §6.8.2).
 
 use crate::geometry::{gamma, Bounds3, Vec3};
+use glam::Vec4;
 
-/// A flattened BVH node: 32 bytes, two to a cache line.
+/// A node with up to four children: their boxes in structure-of-arrays
+/// form, and for each child either the index of its node or, for a leaf,
+/// its range of primitives. 128 bytes, two cache lines.
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[repr(C, align(32))]
+#[repr(C, align(64))]
 pub struct BvhNode {
-    /// Lower corner of the node's box.
-    pub min: [f32; 3],
-    /// For a leaf: index of the first primitive in [`Bvh::primitives`];
-    /// for an interior node: index of the second child.
-    pub offset: u32,
-    /// Upper corner of the node's box.
-    pub max: [f32; 3],
-    /// Number of primitives in a leaf; 0 for an interior node.
-    pub count: u32,
+    /// Lower corners of the children's boxes: `lo[axis][child]`.
+    pub lo: [Vec4; 3],
+    /// Upper corners of the children's boxes: `hi[axis][child]`.
+    pub hi: [Vec4; 3],
+    /// Node index of an interior child, first primitive slot of a leaf.
+    pub child: [u32; 4],
+    /// Number of primitives of a leaf child; 0 for an interior child or an
+    /// empty slot (whose box is empty, so it is never entered).
+    pub count: [u32; 4],
 }
+
+const EMPTY_NODE: BvhNode = BvhNode {
+    lo: [Vec4::INFINITY; 3],
+    hi: [Vec4::NEG_INFINITY; 3],
+    child: [0; 4],
+    count: [0; 4],
+};
 
 /// A BVH over primitives identified by their index in the slice of bounds
 /// it was built from.
@@ -35,57 +52,111 @@ pub struct Bvh {
     nodes: Vec<BvhNode>,
     /// Primitive indices in leaf order.
     primitives: Vec<u32>,
+    bounds: Option<Bounds3>,
 }
 
 /// Most primitives a leaf may hold.
-pub const MAX_LEAF_SIZE: usize = 8;
+pub const MAX_LEAF_SIZE: usize = 4;
 const BIN_COUNT: usize = 16;
 /// Nodes with more primitives than this build their children in parallel.
 const PARALLEL_THRESHOLD: usize = 4096;
 /// Cost of one box test relative to one primitive test, for the SAH.
 const TRAVERSAL_COST: f32 = 1.0;
 const INTERSECTION_COST: f32 = 1.0;
-/// Depth of the traversal stack: far beyond any SAH tree's depth.
-const STACK_SIZE: usize = 64;
+/// Binary-tree depth beyond which the builder stops using the SAH and
+/// splits at the median, so that no input can make the tree deeper than
+/// about `MAX_SAH_DEPTH + log2(n)` levels.
+const MAX_SAH_DEPTH: usize = 48;
+/// Capacity of the traversal stack: at most three entries are pushed per
+/// level of the four-wide tree, which is no deeper than the binary one
+/// (at most `MAX_SAH_DEPTH + 32` levels).
+const STACK_SIZE: usize = 3 * (MAX_SAH_DEPTH + 32) + 4;
 
-/// A ray prepared for box tests.
+/// A ray prepared for box tests: origin and reciprocal direction, each
+/// coordinate splatted over four lanes.
 #[derive(Clone, Copy, Debug)]
 pub struct BoxRay {
-    /// Origin.
-    pub origin: Vec3,
-    /// Reciprocal of the direction (infinite for zero components).
-    pub inv_dir: Vec3,
-    /// Whether each component of the direction is negative.
-    pub neg: [bool; 3],
+    origin: [Vec4; 3],
+    inv_dir: [Vec4; 3],
+    neg: [bool; 3],
 }
 
 impl BoxRay {
     /// Prepare `origin + t dir`.
     #[inline]
     pub fn new(origin: Vec3, dir: Vec3) -> Self {
-        let inv_dir = dir.recip();
-        Self { origin, inv_dir, neg: [inv_dir.x < 0.0, inv_dir.y < 0.0, inv_dir.z < 0.0] }
+        let inv = dir.recip();
+        Self {
+            origin: [Vec4::splat(origin.x), Vec4::splat(origin.y), Vec4::splat(origin.z)],
+            inv_dir: [Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z)],
+            neg: [inv.x < 0.0, inv.y < 0.0, inv.z < 0.0],
+        }
     }
 }
 
-/// The parametric entry distance of the ray into the box, if it overlaps
-/// `[t_min, t_max]`. Conservative: never misses a touched box.
+/// Entry distances of the ray into the node's four child boxes, and the
+/// mask of those that overlap `[t_min, t_max]`: the slab test on four boxes
+/// at once. Conservative: never misses a touched box.
 #[inline(always)]
-fn box_entry(node: &BvhNode, ray: &BoxRay, t_min: f32, t_max: f32) -> Option<f32> {
-    let lo = |axis: usize| if ray.neg[axis] { node.max[axis] } else { node.min[axis] };
-    let hi = |axis: usize| if ray.neg[axis] { node.min[axis] } else { node.max[axis] };
+fn intersect_children(node: &BvhNode, ray: &BoxRay, t_min: f32, t_max: f32) -> (Vec4, u32) {
     const SCALE: f32 = 1.0 + 2.0 * gamma(3);
-    let tx0 = (lo(0) - ray.origin.x) * ray.inv_dir.x;
-    let tx1 = (hi(0) - ray.origin.x) * ray.inv_dir.x * SCALE;
-    let ty0 = (lo(1) - ray.origin.y) * ray.inv_dir.y;
-    let ty1 = (hi(1) - ray.origin.y) * ray.inv_dir.y * SCALE;
-    let tz0 = (lo(2) - ray.origin.z) * ray.inv_dir.z;
-    let tz1 = (hi(2) - ray.origin.z) * ray.inv_dir.z * SCALE;
-    // max/min written so that a NaN (0 · ∞ for a ray in a slab's plane)
-    // falls back to the other operand.
-    let t0 = t_min.max(tx0).max(ty0).max(tz0);
-    let t1 = t_max.min(tx1).min(ty1).min(tz1);
-    (t0 <= t1).then_some(t0)
+    let mut t0 = Vec4::splat(t_min);
+    let mut t1 = Vec4::splat(t_max);
+    for axis in 0..3 {
+        let (near, far) = if ray.neg[axis] { (node.hi[axis], node.lo[axis]) } else { (node.lo[axis], node.hi[axis]) };
+        // `x.max(acc)` is one SIMD max whose result is `acc` when `x` is
+        // NaN (a ray lying in a slab's plane: 0 · ∞), which leaves that slab
+        // unconstrained.
+        t0 = ((near - ray.origin[axis]) * ray.inv_dir[axis]).max(t0);
+        t1 = ((far - ray.origin[axis]) * ray.inv_dir[axis] * SCALE).min(t1);
+    }
+    (t0, t0.cmple(t1).bitmask())
+}
+
+/// What waits on the traversal stack: a node, or a leaf's primitive range,
+/// with the distance at which the ray enters its box.
+#[derive(Clone, Copy, Default)]
+struct StackEntry {
+    /// Node index, or first primitive slot of a leaf.
+    index: u32,
+    /// 0 for a node, else the leaf's primitive count.
+    count: u32,
+    t: f32,
+}
+
+/// The traversal stack, on the call stack and left uninitialised: zeroing
+/// a few kilobytes per ray would cost more than many box tests.
+struct Stack {
+    entries: [std::mem::MaybeUninit<StackEntry>; STACK_SIZE],
+    len: usize,
+}
+
+impl Stack {
+    /// A stack holding the root node.
+    #[inline(always)]
+    fn with_root() -> Self {
+        let mut stack = Self { entries: [std::mem::MaybeUninit::uninit(); STACK_SIZE], len: 0 };
+        stack.push(StackEntry::default());
+        stack
+    }
+
+    #[inline(always)]
+    fn push(&mut self, e: StackEntry) {
+        // The tree's depth bound makes overflow impossible; the index check
+        // stays, so a broken bound would panic rather than corrupt memory.
+        self.entries[self.len].write(e);
+        self.len += 1;
+    }
+
+    #[inline(always)]
+    fn pop(&mut self) -> Option<StackEntry> {
+        if self.len == 0 {
+            return None;
+        }
+        self.len -= 1;
+        // SAFETY: every slot below `len` was written by `push`.
+        Some(unsafe { self.entries[self.len].assume_init() })
+    }
 }
 
 struct BuildPrim {
@@ -122,174 +193,11 @@ fn surface_area(b: &Bounds3) -> f32 {
     2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
 }
 
-impl Bvh {
-    /// Build over `bounds[i]` for every primitive `i`. Empty boxes (e.g. of
-    /// degenerate primitives) are left out. Uses the current rayon pool.
-    pub fn build(bounds: &[Bounds3]) -> Self {
-        let mut prims: Vec<BuildPrim> = bounds
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| !b.is_empty() && !b.is_infinite())
-            .map(|(i, b)| BuildPrim { bounds: *b, centroid: 0.5 * (b.min + b.max), index: i as u32 })
-            .collect();
-        if prims.is_empty() {
-            return Self::default();
-        }
-        let root = build_recursive(&mut prims, 0);
-        let mut nodes = Vec::with_capacity(root.node_count());
-        flatten(&root, &mut nodes);
-        let primitives = prims.iter().map(|p| p.index).collect();
-        Self { nodes, primitives }
-    }
-
-    /// The flattened nodes; the root is node 0.
-    pub fn nodes(&self) -> &[BvhNode] {
-        &self.nodes
-    }
-
-    /// Primitive indices in leaf order.
-    pub fn primitives(&self) -> &[u32] {
-        &self.primitives
-    }
-
-    /// Whether the tree holds no primitive.
-    pub fn is_empty(&self) -> bool {
-        self.nodes.is_empty()
-    }
-
-    /// World bounds of the whole tree.
-    pub fn bounds(&self) -> Bounds3 {
-        self.nodes
-            .first()
-            .map_or(Bounds3::EMPTY, |n| Bounds3 { min: Vec3::from_array(n.min), max: Vec3::from_array(n.max) })
-    }
-
-    /// Heap bytes used by nodes and the primitive list.
-    pub fn memory_bytes(&self) -> usize {
-        self.nodes.capacity() * std::mem::size_of::<BvhNode>() + self.primitives.capacity() * 4
-    }
-
-    /// Closest-hit traversal. `test(slot, t_max)` intersects the primitive
-    /// stored at `slot` of [`Bvh::primitives`] and, on a hit closer than
-    /// `*t_max`, shrinks `*t_max` and returns true. Returns whether anything
-    /// was hit.
-    #[inline]
-    pub fn traverse_closest<F>(&self, ray: &BoxRay, t_min: f32, t_max: &mut f32, mut test: F) -> bool
-    where
-        F: FnMut(usize, &mut f32) -> bool,
-    {
-        let Some(root) = self.nodes.first() else { return false };
-        if box_entry(root, ray, t_min, *t_max).is_none() {
-            return false;
-        }
-        let mut hit = false;
-        let mut stack = [0u32; STACK_SIZE];
-        let mut sp = 0;
-        let mut index = 0usize;
-        loop {
-            let node = &self.nodes[index];
-            if node.count > 0 {
-                let first = node.offset as usize;
-                for slot in first..first + node.count as usize {
-                    hit |= test(slot, t_max);
-                }
-            } else {
-                let (a, b) = (index + 1, node.offset as usize);
-                let ta = box_entry(&self.nodes[a], ray, t_min, *t_max);
-                let tb = box_entry(&self.nodes[b], ray, t_min, *t_max);
-                match (ta, tb) {
-                    (Some(ta), Some(tb)) => {
-                        let (near, far) = if ta <= tb { (a, b) } else { (b, a) };
-                        stack[sp] = far as u32;
-                        sp += 1;
-                        index = near;
-                        continue;
-                    }
-                    (Some(_), None) => {
-                        index = a;
-                        continue;
-                    }
-                    (None, Some(_)) => {
-                        index = b;
-                        continue;
-                    }
-                    (None, None) => {}
-                }
-            }
-            // Pop until a node still worth visiting.
-            loop {
-                if sp == 0 {
-                    return hit;
-                }
-                sp -= 1;
-                let candidate = stack[sp] as usize;
-                if box_entry(&self.nodes[candidate], ray, t_min, *t_max).is_some() {
-                    index = candidate;
-                    break;
-                }
-            }
-        }
-    }
-
-    /// Any-hit traversal: stops at the first primitive for which
-    /// `test(slot)` returns true.
-    #[inline]
-    pub fn traverse_any<F>(&self, ray: &BoxRay, t_min: f32, t_max: f32, mut test: F) -> bool
-    where
-        F: FnMut(usize) -> bool,
-    {
-        let Some(root) = self.nodes.first() else { return false };
-        if box_entry(root, ray, t_min, t_max).is_none() {
-            return false;
-        }
-        let mut stack = [0u32; STACK_SIZE];
-        let mut sp = 0;
-        let mut index = 0usize;
-        loop {
-            let node = &self.nodes[index];
-            if node.count > 0 {
-                let first = node.offset as usize;
-                for slot in first..first + node.count as usize {
-                    if test(slot) {
-                        return true;
-                    }
-                }
-            } else {
-                let (a, b) = (index + 1, node.offset as usize);
-                let ha = box_entry(&self.nodes[a], ray, t_min, t_max).is_some();
-                let hb = box_entry(&self.nodes[b], ray, t_min, t_max).is_some();
-                match (ha, hb) {
-                    (true, true) => {
-                        stack[sp] = b as u32;
-                        sp += 1;
-                        index = a;
-                        continue;
-                    }
-                    (true, false) => {
-                        index = a;
-                        continue;
-                    }
-                    (false, true) => {
-                        index = b;
-                        continue;
-                    }
-                    (false, false) => {}
-                }
-            }
-            if sp == 0 {
-                return false;
-            }
-            sp -= 1;
-            index = stack[sp] as usize;
-        }
-    }
-}
-
 fn bounds_of(prims: &[BuildPrim]) -> (Bounds3, Bounds3) {
     prims.iter().fold((Bounds3::EMPTY, Bounds3::EMPTY), |(b, c), p| (b.union(&p.bounds), c.union_point(p.centroid)))
 }
 
-fn build_recursive(prims: &mut [BuildPrim], first: usize) -> BuildNode {
+fn build_recursive(prims: &mut [BuildPrim], first: usize, depth: usize) -> BuildNode {
     let (bounds, centroid_bounds) = if prims.len() > PARALLEL_THRESHOLD {
         use rayon::prelude::*;
         prims
@@ -318,7 +226,17 @@ fn build_recursive(prims: &mut [BuildPrim], first: usize) -> BuildNode {
             return leaf();
         }
         let mid = n / 2;
-        return split_at(prims, first, mid, bounds);
+        return split_at(prims, first, mid, bounds, depth);
+    }
+    if depth >= MAX_SAH_DEPTH {
+        // Too deep for the SAH's taste (an adversarial input): halve by the
+        // median centroid, which bounds the remaining depth by log2(n).
+        if n <= MAX_LEAF_SIZE {
+            return leaf();
+        }
+        let mid = n / 2;
+        prims.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
+        return split_at(prims, first, mid, bounds, depth);
     }
 
     // Bin the centroids and evaluate the SAH at every bin boundary.
@@ -372,35 +290,199 @@ fn build_recursive(prims: &mut [BuildPrim], first: usize) -> BuildNode {
     if left == 0 || left == n {
         left = n / 2;
     }
-    split_at(prims, first, left, bounds)
+    split_at(prims, first, left, bounds, depth)
 }
 
-fn split_at(prims: &mut [BuildPrim], first: usize, mid: usize, bounds: Bounds3) -> BuildNode {
+fn split_at(prims: &mut [BuildPrim], first: usize, mid: usize, bounds: Bounds3, depth: usize) -> BuildNode {
     let (l, r) = prims.split_at_mut(mid);
     let (a, b) = if l.len() + r.len() > PARALLEL_THRESHOLD {
-        rayon::join(|| build_recursive(l, first), || build_recursive(r, first + mid))
+        rayon::join(|| build_recursive(l, first, depth + 1), || build_recursive(r, first + mid, depth + 1))
     } else {
-        (build_recursive(l, first), build_recursive(r, first + mid))
+        (build_recursive(l, first, depth + 1), build_recursive(r, first + mid, depth + 1))
     };
     let size = 1 + a.node_count() + b.node_count();
     BuildNode::Interior { bounds, children: Box::new([a, b]), size }
 }
 
-fn flatten(node: &BuildNode, out: &mut Vec<BvhNode>) {
-    let b = node.bounds();
-    let index = out.len();
-    out.push(BvhNode { min: b.min.to_array(), offset: 0, max: b.max.to_array(), count: 0 });
-    match node {
-        BuildNode::Leaf { first, count, .. } => {
-            out[index].offset = *first as u32;
-            out[index].count = *count as u32;
+impl Bvh {
+    /// Build over `bounds[i]` for every primitive `i`. Empty or infinite
+    /// boxes (e.g. of degenerate primitives) are left out. Uses the current
+    /// rayon pool.
+    pub fn build(bounds: &[Bounds3]) -> Self {
+        let mut prims: Vec<BuildPrim> = bounds
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| !b.is_empty() && !b.is_infinite())
+            .map(|(i, b)| BuildPrim { bounds: *b, centroid: 0.5 * (b.min + b.max), index: i as u32 })
+            .collect();
+        if prims.is_empty() {
+            return Self::default();
         }
-        BuildNode::Interior { children, .. } => {
-            flatten(&children[0], out);
-            out[index].offset = out.len() as u32;
-            flatten(&children[1], out);
+        let root = build_recursive(&mut prims, 0, 0);
+        let mut nodes = Vec::with_capacity(root.node_count() / 2 + 1);
+        // The root node holds the root as its only child (or the root's
+        // children, when the root is interior).
+        flatten(&root, &mut nodes);
+        let primitives = prims.iter().map(|p| p.index).collect();
+        Self { nodes, primitives, bounds: Some(root.bounds()) }
+    }
+
+    /// The flattened nodes; the root is node 0.
+    pub fn nodes(&self) -> &[BvhNode] {
+        &self.nodes
+    }
+
+    /// Primitive indices in leaf order.
+    pub fn primitives(&self) -> &[u32] {
+        &self.primitives
+    }
+
+    /// Whether the tree holds no primitive.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// World bounds of the whole tree.
+    pub fn bounds(&self) -> Bounds3 {
+        self.bounds.unwrap_or(Bounds3::EMPTY)
+    }
+
+    /// Heap bytes used by nodes and the primitive list.
+    pub fn memory_bytes(&self) -> usize {
+        self.nodes.capacity() * std::mem::size_of::<BvhNode>() + self.primitives.capacity() * 4
+    }
+
+    /// Closest-hit traversal. `test(slot, t_max)` intersects the primitive
+    /// stored at `slot` of [`Bvh::primitives`] and, on a hit closer than
+    /// `*t_max`, shrinks `*t_max` and returns true. Returns whether anything
+    /// was hit.
+    #[inline]
+    pub fn traverse_closest<F>(&self, ray: &BoxRay, t_min: f32, t_max: &mut f32, mut test: F) -> bool
+    where
+        F: FnMut(usize, &mut f32) -> bool,
+    {
+        if self.nodes.is_empty() {
+            return false;
+        }
+        let mut hit = false;
+        let mut stack = Stack::with_root();
+        while let Some(entry) = stack.pop() {
+            if entry.t > *t_max {
+                continue;
+            }
+            if entry.count > 0 {
+                let first = entry.index as usize;
+                for slot in first..first + entry.count as usize {
+                    hit |= test(slot, t_max);
+                }
+                continue;
+            }
+            let node = &self.nodes[entry.index as usize];
+            let (t0, mask) = intersect_children(node, ray, t_min, *t_max);
+            if mask == 0 {
+                continue;
+            }
+            // Gather the hit children and push them farthest first, so the
+            // nearest is popped next.
+            let mut hits = [(0f32, 0usize); 4];
+            let mut n = 0;
+            for i in 0..4 {
+                if mask & (1 << i) != 0 {
+                    // Insertion sort, descending by distance.
+                    let mut j = n;
+                    while j > 0 && hits[j - 1].0 < t0[i] {
+                        hits[j] = hits[j - 1];
+                        j -= 1;
+                    }
+                    hits[j] = (t0[i], i);
+                    n += 1;
+                }
+            }
+            for &(t, i) in &hits[..n] {
+                stack.push(StackEntry { index: node.child[i], count: node.count[i], t });
+            }
+        }
+        hit
+    }
+
+    /// Any-hit traversal: stops at the first primitive for which
+    /// `test(slot)` returns true.
+    #[inline]
+    pub fn traverse_any<F>(&self, ray: &BoxRay, t_min: f32, t_max: f32, mut test: F) -> bool
+    where
+        F: FnMut(usize) -> bool,
+    {
+        if self.nodes.is_empty() {
+            return false;
+        }
+        let mut stack = Stack::with_root();
+        while let Some(entry) = stack.pop() {
+            if entry.count > 0 {
+                let first = entry.index as usize;
+                if (first..first + entry.count as usize).any(&mut test) {
+                    return true;
+                }
+                continue;
+            }
+            let node = &self.nodes[entry.index as usize];
+            let (_, mask) = intersect_children(node, ray, t_min, t_max);
+            for i in 0..4 {
+                if mask & (1 << i) != 0 {
+                    stack.push(StackEntry { index: node.child[i], count: node.count[i], t: 0.0 });
+                }
+            }
+        }
+        false
+    }
+}
+
+/// Up to four subtrees that become the children of one four-wide node:
+/// start from a node's two children and keep opening the interior child of
+/// largest surface area.
+fn collect_children(node: &BuildNode) -> Vec<&BuildNode> {
+    let mut children: Vec<&BuildNode> = match node {
+        BuildNode::Leaf { .. } => return vec![node],
+        BuildNode::Interior { children, .. } => vec![&children[0], &children[1]],
+    };
+    while children.len() < 4 {
+        let best = children
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| matches!(c, BuildNode::Interior { .. }))
+            .max_by(|a, b| surface_area(&a.1.bounds()).total_cmp(&surface_area(&b.1.bounds())))
+            .map(|(i, _)| i);
+        let Some(i) = best else { break };
+        let BuildNode::Interior { children: grand, .. } = children[i] else { unreachable!() };
+        children[i] = &grand[0];
+        children.push(&grand[1]);
+    }
+    children
+}
+
+/// Append the four-wide node for `node` (and, depth first, its interior
+/// descendants); returns its index.
+fn flatten(node: &BuildNode, out: &mut Vec<BvhNode>) -> u32 {
+    let index = out.len();
+    out.push(EMPTY_NODE);
+    for (slot, child) in collect_children(node).into_iter().enumerate() {
+        let b = child.bounds();
+        for axis in 0..3 {
+            out[index].lo[axis][slot] = b.min[axis];
+            out[index].hi[axis][slot] = b.max[axis];
+        }
+        match child {
+            BuildNode::Leaf { first, count, .. } => {
+                out[index].child[slot] = *first as u32;
+                out[index].count[slot] = *count as u32;
+            }
+            BuildNode::Interior { .. } => {
+                let c = flatten(child, out);
+                out[index].child[slot] = c;
+                out[index].count[slot] = 0;
+            }
         }
     }
+    index as u32
 }
 
 #[cfg(test)]
@@ -419,34 +501,48 @@ mod tests {
             .collect()
     }
 
+    fn child_bounds(n: &BvhNode, i: usize) -> Bounds3 {
+        Bounds3 {
+            min: Vec3::new(n.lo[0][i], n.lo[1][i], n.lo[2][i]),
+            max: Vec3::new(n.hi[0][i], n.hi[1][i], n.hi[2][i]),
+        }
+    }
+
     #[test]
     fn every_primitive_is_in_exactly_one_leaf_inside_its_ancestors() {
-        let boxes = random_boxes(5000, 1);
-        let bvh = Bvh::build(&boxes);
-        let mut seen = vec![0u8; boxes.len()];
-        for &p in bvh.primitives() {
-            seen[p as usize] += 1;
-        }
-        assert!(seen.iter().all(|&s| s == 1));
-        // Every node's box contains its children / primitives.
-        fn check(bvh: &Bvh, i: usize, boxes: &[Bounds3]) {
-            let n = bvh.nodes()[i];
-            let nb = Bounds3 { min: Vec3::from_array(n.min), max: Vec3::from_array(n.max) };
-            let inside = |b: &Bounds3| b.min.cmpge(nb.min).all() && b.max.cmple(nb.max).all();
-            if n.count > 0 {
-                assert!(n.count as usize <= MAX_LEAF_SIZE);
-                for s in n.offset..n.offset + n.count {
-                    assert!(inside(&boxes[bvh.primitives()[s as usize] as usize]));
-                }
-            } else {
-                for c in [i + 1, n.offset as usize] {
-                    let cn = bvh.nodes()[c];
-                    assert!(inside(&Bounds3 { min: Vec3::from_array(cn.min), max: Vec3::from_array(cn.max) }));
-                    check(bvh, c, boxes);
+        for n in [1, 3, 4, 5, 17, 5000] {
+            let boxes = random_boxes(n, n as u64);
+            let bvh = Bvh::build(&boxes);
+            let mut seen = vec![0u8; boxes.len()];
+            let inside = |inner: &Bounds3, outer: &Bounds3| inner.min.cmpge(outer.min).all() && inner.max.cmple(outer.max).all();
+            let mut stack = vec![0usize];
+            while let Some(i) = stack.pop() {
+                let node = bvh.nodes()[i];
+                for c in 0..4 {
+                    let cb = child_bounds(&node, c);
+                    if cb.is_empty() {
+                        continue;
+                    }
+                    assert!(inside(&cb, &bvh.bounds()));
+                    if node.count[c] > 0 {
+                        assert!(node.count[c] as usize <= MAX_LEAF_SIZE);
+                        for s in node.child[c]..node.child[c] + node.count[c] {
+                            let p = bvh.primitives()[s as usize] as usize;
+                            seen[p] += 1;
+                            assert!(inside(&boxes[p], &cb));
+                        }
+                    } else {
+                        let grand = bvh.nodes()[node.child[c] as usize];
+                        for g in 0..4 {
+                            let gb = child_bounds(&grand, g);
+                            assert!(gb.is_empty() || inside(&gb, &cb));
+                        }
+                        stack.push(node.child[c] as usize);
+                    }
                 }
             }
+            assert!(seen.iter().all(|&s| s == 1), "{n} boxes");
         }
-        check(&bvh, 0, &boxes);
     }
 
     #[test]
@@ -459,11 +555,20 @@ mod tests {
 
     #[test]
     fn box_test_is_conservative_for_axis_parallel_rays() {
-        let node = BvhNode { min: [0.0; 3], offset: 0, max: [1.0; 3], count: 1 };
+        let mut node = EMPTY_NODE;
+        for axis in 0..3 {
+            node.lo[axis][0] = 0.0;
+            node.hi[axis][0] = 1.0;
+        }
         // A ray lying exactly in the plane x = 0 of the box's face.
         let r = BoxRay::new(Vec3::new(0.0, 0.5, -1.0), Vec3::Z);
-        assert!(box_entry(&node, &r, 0.0, f32::INFINITY).is_some());
+        assert_eq!(intersect_children(&node, &r, 0.0, f32::INFINITY).1, 1);
         let r = BoxRay::new(Vec3::new(-0.1, 0.5, -1.0), Vec3::Z);
-        assert!(box_entry(&node, &r, 0.0, f32::INFINITY).is_none());
+        assert_eq!(intersect_children(&node, &r, 0.0, f32::INFINITY).1, 0);
+        // Empty slots are never entered, whatever the direction's signs.
+        for d in [Vec3::new(1.0, -1.0, 0.5), Vec3::new(-1.0, 1.0, -0.5), Vec3::X, -Vec3::Y] {
+            let r = BoxRay::new(Vec3::splat(0.5), d);
+            assert_eq!(intersect_children(&node, &r, 0.0, f32::INFINITY).1, 1);
+        }
     }
 }

@@ -48,14 +48,13 @@ impl WatertightRay {
     }
 }
 
-/// `a b - c d` with one rounding, via the FMA trick of Kahan (PBRT 4th ed.,
-/// §B.2.9).
+/// `a b - c d`, nearly exactly rounded: the products of two f32 are exact
+/// in f64 (48 significant bits), so only the difference and the final
+/// conversion round. This is the accuracy PBRT obtains with Kahan's FMA
+/// trick (4th ed., §B.2.9), without depending on a hardware FMA.
 #[inline(always)]
 fn difference_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
-    let cd = c * d;
-    let err = (-c).mul_add(d, cd);
-    let dop = a.mul_add(b, -cd);
-    dop + err
+    (a as f64 * b as f64 - c as f64 * d as f64) as f32
 }
 
 /// A hit of [`intersect_triangle`]: distance and barycentric coordinates of
