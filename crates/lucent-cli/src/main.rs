@@ -84,6 +84,7 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
     let mut file = load(args.scene.as_deref())?;
     apply_overrides(&mut file, &args.overrides)?;
     let scene = file.build().map_err(|e| e.to_string())?;
+    warn(&scene, args.quiet);
 
     let out_path = args.output.clone().unwrap_or_else(|| default_output(args.scene.as_deref()));
     // Reserve the output before rendering: a bad path fails now, not after
@@ -115,6 +116,7 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
 
 fn run_check(path: &Path) -> Result<(), String> {
     let scene = SceneFile::load(path).and_then(|f| f.build()).map_err(|e| e.to_string())?;
+    warn(&scene, false);
     let count = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
     say!(
         "{}: ok ({}, {}, {}, {}×{}, {} spp)",
@@ -127,6 +129,15 @@ fn run_check(path: &Path) -> Result<(), String> {
         scene.settings.spp
     )?;
     Ok(())
+}
+
+/// Print the scene's non-fatal problems (skipped degenerate triangles...).
+fn warn(scene: &lucent::scene::Scene, quiet: bool) {
+    if !quiet {
+        for w in &scene.warnings {
+            eprintln!("warning: {w}");
+        }
+    }
 }
 
 fn default_output(scene: Option<&Path>) -> PathBuf {

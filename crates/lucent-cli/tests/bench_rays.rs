@@ -317,9 +317,11 @@ fn bunny_counts() {
         let got = r[k].as_u64().unwrap();
         assert!(got.abs_diff(want) <= tol, "{k}: {got}, Embree {want}");
     };
+    // max(10, 1e-5 × rays) for hits, max(10, 2e-4 × shadow rays) for the
+    // occluded shadow rays.
     near("primary_hits", 434_668, 10);
     near("incoherent_hits", 452_789, 10);
-    near("shadow_occluded", 110_561, 22);
+    near("shadow_occluded", 110_561, 86);
     for (k, want) in [("primary_tsum", 93672.10049328208), ("incoherent_tsum", 15406.090858786334)] {
         let got = r[k].as_f64().unwrap();
         assert!(((got - want) / want).abs() <= 1e-5, "{k}: {got}, Embree {want}");

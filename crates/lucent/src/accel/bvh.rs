@@ -38,12 +38,8 @@ pub struct BvhNode {
     pub count: [u32; 4],
 }
 
-const EMPTY_NODE: BvhNode = BvhNode {
-    lo: [Vec4::INFINITY; 3],
-    hi: [Vec4::NEG_INFINITY; 3],
-    child: [0; 4],
-    count: [0; 4],
-};
+const EMPTY_NODE: BvhNode =
+    BvhNode { lo: [Vec4::INFINITY; 3], hi: [Vec4::NEG_INFINITY; 3], child: [0; 4], count: [0; 4] };
 
 /// A BVH over primitives identified by their index in the slice of bounds
 /// it was built from.
@@ -61,7 +57,7 @@ const BIN_COUNT: usize = 16;
 /// Nodes with more primitives than this build their children in parallel.
 const PARALLEL_THRESHOLD: usize = 4096;
 /// Cost of one box test relative to one primitive test, for the SAH.
-const TRAVERSAL_COST: f32 = 1.0;
+const TRAVERSAL_COST: f32 = 2.0;
 const INTERSECTION_COST: f32 = 1.0;
 /// Binary-tree depth beyond which the builder stops using the SAH and
 /// splits at the median, so that no input can make the tree deeper than
@@ -514,7 +510,8 @@ mod tests {
             let boxes = random_boxes(n, n as u64);
             let bvh = Bvh::build(&boxes);
             let mut seen = vec![0u8; boxes.len()];
-            let inside = |inner: &Bounds3, outer: &Bounds3| inner.min.cmpge(outer.min).all() && inner.max.cmple(outer.max).all();
+            let inside =
+                |inner: &Bounds3, outer: &Bounds3| inner.min.cmpge(outer.min).all() && inner.max.cmple(outer.max).all();
             let mut stack = vec![0usize];
             while let Some(i) = stack.pop() {
                 let node = bvh.nodes()[i];

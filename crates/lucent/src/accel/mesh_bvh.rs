@@ -26,10 +26,10 @@ pub struct MeshHit {
 /// hit them.
 #[derive(Clone, Debug, Default)]
 pub struct MeshBvh {
+    /// The hierarchy; its primitive list gives the original index of each
+    /// entry of `triangles`.
     bvh: Bvh,
     triangles: Vec<[Vec3; 3]>,
-    /// Original triangle index of each entry of `triangles`.
-    ids: Vec<u32>,
 }
 
 impl MeshBvh {
@@ -49,9 +49,8 @@ impl MeshBvh {
             })
             .collect();
         let bvh = Bvh::build(&bounds);
-        let ids: Vec<u32> = bvh.primitives().to_vec();
-        let triangles = ids.par_iter().with_min_len(1024).map(|&i| mesh.triangle(i as usize)).collect();
-        Self { bvh, triangles, ids }
+        let triangles = bvh.primitives().par_iter().with_min_len(1024).map(|&i| mesh.triangle(i as usize)).collect();
+        Self { bvh, triangles }
     }
 
     /// Triangles in the structure (zero-area ones excluded).
@@ -66,7 +65,7 @@ impl MeshBvh {
 
     /// Heap bytes: nodes, triangle copies and index map.
     pub fn memory_bytes(&self) -> usize {
-        self.bvh.memory_bytes() + self.triangles.capacity() * std::mem::size_of::<[Vec3; 3]>() + self.ids.capacity() * 4
+        self.bvh.memory_bytes() + self.triangles.capacity() * std::mem::size_of::<[Vec3; 3]>()
     }
 
     /// The closest hit with `t ∈ [t_min, t_max]`.
@@ -86,7 +85,7 @@ impl MeshBvh {
                 None => false,
             }
         });
-        best.map(|(slot, h)| MeshHit { t: h.t, triangle: self.ids[slot], b: h.b })
+        best.map(|(slot, h)| MeshHit { t: h.t, triangle: self.bvh.primitives()[slot], b: h.b })
     }
 
     /// Whether any triangle is hit with `t ∈ [t_min, t_max]`.

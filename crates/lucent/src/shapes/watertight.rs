@@ -80,16 +80,12 @@ pub fn intersect_triangle(r: &WatertightRay, p: &[Vec3; 3], t_min: f32, t_max: f
     let (bx, by) = (b[kx] + r.sx * bz, b[ky] + r.sy * bz);
     let (cx, cy) = (c[kx] + r.sx * cz, c[ky] + r.sy * cz);
 
-    let mut e0 = difference_of_products(bx, cy, by, cx);
-    let mut e1 = difference_of_products(cx, ay, cy, ax);
-    let mut e2 = difference_of_products(ax, by, ay, bx);
-    if e0 == 0.0 || e1 == 0.0 || e2 == 0.0 {
-        // On an edge in single precision: decide in double precision.
-        let (ax, ay, bx, by, cx, cy) = (ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64);
-        e0 = (bx * cy - by * cx) as f32;
-        e1 = (cx * ay - cy * ax) as f32;
-        e2 = (ax * by - ay * bx) as f32;
-    }
+    // Edge functions, each nearly exactly rounded (see
+    // `difference_of_products`): an edge through the ray gives exactly 0 on
+    // both triangles that share it, which is what makes the test watertight.
+    let e0 = difference_of_products(bx, cy, by, cx);
+    let e1 = difference_of_products(cx, ay, cy, ax);
+    let e2 = difference_of_products(ax, by, ay, bx);
     if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
         return None;
     }
