@@ -58,7 +58,9 @@ fn mesh_bvh_equals_brute_force() {
             let wray = watertight::WatertightRay::new(&ray);
             let mut best: Option<(f32, u32)> = None;
             for i in 0..mesh.triangle_count() {
-                if let Some(h) = watertight::intersect_triangle(&wray, &mesh.triangle(i), 0.0, t_max) {
+                // The same per-triangle test the BVH runs, one triangle a block.
+                let block = watertight::TriangleBlock::new(&[(mesh.triangle(i), i as u32)]);
+                if let Some((_, h)) = watertight::intersect_block(&wray, &block, 0.0, t_max) {
                     if best.is_none_or(|(t, _)| h.t < t) {
                         best = Some((h.t, i as u32));
                     }

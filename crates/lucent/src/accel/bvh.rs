@@ -57,7 +57,7 @@ const BIN_COUNT: usize = 16;
 /// Nodes with more primitives than this build their children in parallel.
 const PARALLEL_THRESHOLD: usize = 4096;
 /// Cost of one box test relative to one primitive test, for the SAH.
-const TRAVERSAL_COST: f32 = 2.0;
+const TRAVERSAL_COST: f32 = 3.0;
 const INTERSECTION_COST: f32 = 1.0;
 /// Binary-tree depth beyond which the builder stops using the SAH and
 /// splits at the median, so that no input can make the tree deeper than
@@ -333,6 +333,12 @@ impl Bvh {
         &self.primitives
     }
 
+    /// Drop the primitive list, once leaves have been remapped to storage
+    /// that no longer needs it.
+    pub fn clear_primitives(&mut self) {
+        self.primitives = Vec::new();
+    }
+
     /// Whether the tree holds no primitive.
     pub fn is_empty(&self) -> bool {
         self.nodes.is_empty()
@@ -348,14 +354,29 @@ impl Bvh {
         self.nodes.capacity() * std::mem::size_of::<BvhNode>() + self.primitives.capacity() * 4
     }
 
-    /// Closest-hit traversal. `test(slot, t_max)` intersects the primitive
-    /// stored at `slot` of [`Bvh::primitives`] and, on a hit closer than
-    /// `*t_max`, shrinks `*t_max` and returns true. Returns whether anything
-    /// was hit.
+    /// Rewrite every leaf's reference: `f(first, count)` receives the
+    /// leaf's range of slots in [`Bvh::primitives`] and returns what the
+    /// traversal callbacks will receive as `first` instead (e.g. the index
+    /// of a block of primitives stored in leaf order elsewhere).
+    pub fn remap_leaves(&mut self, mut f: impl FnMut(u32, u32) -> u32) {
+        for node in &mut self.nodes {
+            for i in 0..4 {
+                if node.count[i] > 0 {
+                    node.child[i] = f(node.child[i], node.count[i]);
+                }
+            }
+        }
+    }
+
+    /// Closest-hit traversal. `test(first, count, t_max)` intersects the
+    /// primitives of a leaf (slots `first..first + count` of
+    /// [`Bvh::primitives`], unless remapped) and, on a hit closer than
+    /// `*t_max`, shrinks `*t_max` and returns true. Leaves are visited
+    /// roughly front to back. Returns whether anything was hit.
     #[inline]
     pub fn traverse_closest<F>(&self, ray: &BoxRay, t_min: f32, t_max: &mut f32, mut test: F) -> bool
     where
-        F: FnMut(usize, &mut f32) -> bool,
+        F: FnMut(u32, u32, &mut f32) -> bool,
     {
         if self.nodes.is_empty() {
             return false;
@@ -367,10 +388,7 @@ impl Bvh {
                 continue;
             }
             if entry.count > 0 {
-                let first = entry.index as usize;
-                for slot in first..first + entry.count as usize {
-                    hit |= test(slot, t_max);
-                }
+                hit |= test(entry.index, entry.count, t_max);
                 continue;
             }
             let node = &self.nodes[entry.index as usize];
@@ -401,12 +419,12 @@ impl Bvh {
         hit
     }
 
-    /// Any-hit traversal: stops at the first primitive for which
-    /// `test(slot)` returns true.
+    /// Any-hit traversal: stops at the first leaf for which
+    /// `test(first, count)` returns true.
     #[inline]
     pub fn traverse_any<F>(&self, ray: &BoxRay, t_min: f32, t_max: f32, mut test: F) -> bool
     where
-        F: FnMut(usize) -> bool,
+        F: FnMut(u32, u32) -> bool,
     {
         if self.nodes.is_empty() {
             return false;
@@ -414,8 +432,7 @@ impl Bvh {
         let mut stack = Stack::with_root();
         while let Some(entry) = stack.pop() {
             if entry.count > 0 {
-                let first = entry.index as usize;
-                if (first..first + entry.count as usize).any(&mut test) {
+                if test(entry.index, entry.count) {
                     return true;
                 }
                 continue;

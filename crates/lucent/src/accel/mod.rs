@@ -67,15 +67,16 @@ impl Aggregate for BvhAggregate {
         }
         let box_ray = BoxRay::new(ray.origin, ray.dir);
         // Box tests use a closed interval; primitives keep t < t_max open.
-        self.bvh.traverse_closest(&box_ray, 0.0, &mut t_max, |slot, t_max| {
-            match self.bounded[slot].intersect(ray, *t_max) {
-                Some(si) => {
+        self.bvh.traverse_closest(&box_ray, 0.0, &mut t_max, |first, count, t_max| {
+            let mut hit = false;
+            for prim in &self.bounded[first as usize..(first + count) as usize] {
+                if let Some(si) = prim.intersect(ray, *t_max) {
                     *t_max = si.t;
                     closest = Some(si);
-                    true
+                    hit = true;
                 }
-                None => false,
             }
+            hit
         });
         closest
     }
@@ -85,7 +86,9 @@ impl Aggregate for BvhAggregate {
             return true;
         }
         let box_ray = BoxRay::new(ray.origin, ray.dir);
-        self.bvh.traverse_any(&box_ray, 0.0, t_max, |slot| self.bounded[slot].intersect_p(ray, t_max))
+        self.bvh.traverse_any(&box_ray, 0.0, t_max, |first, count| {
+            self.bounded[first as usize..(first + count) as usize].iter().any(|p| p.intersect_p(ray, t_max))
+        })
     }
 
     fn bounds(&self) -> Bounds3 {
