@@ -1,0 +1,133 @@
+//! Meshes, prototypes and instances in scene files.
+
+use lucent::scene::{SceneFile, SceneFormat};
+use lucent::shapes::Shape;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+fn fixtures() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/meshes")
+}
+
+/// Parse `body` as if it were a scene file in the fixtures folder, so that
+/// mesh paths resolve against it.
+fn parse(body: &str) -> Result<lucent::scene::Scene, lucent::scene::SceneError> {
+    let src = format!(
+        "[camera]\neye = [0, 1.5, -8]\nlook_at = [0, 1.5, 0]\n[render]\nwidth = 16\nheight = 16\nspp = 1\n\
+         [materials.red.matte]\ncolor = [1, 0, 0]\n[materials.blue.matte]\ncolor = [0, 0, 1]\n{body}"
+    );
+    SceneFile::parse(src, SceneFormat::Toml, Some(fixtures().join("scene.toml")))?.build()
+}
+
+fn mesh_of(p: &lucent::scene::Primitive) -> &Arc<lucent::shapes::Mesh> {
+    match p.shape() {
+        Shape::Mesh(m) => m,
+        other => panic!("expected a mesh, got {other:?}"),
+    }
+}
+
+#[test]
+fn placements_of_one_mesh_share_its_triangles() {
+    let scene = parse(
+        r#"
+[meshes.cube]
+file = "cube_ascii.ply"
+[[mesh]]
+mesh = "cube"
+material = "red"
+[[mesh]]
+mesh = "cube"
+material = "blue"
+transform = [{ translate = [2, 0, 0] }]
+[[mesh]]
+file = "cube_ascii.ply"
+material = "red"
+"#,
+    )
+    .unwrap();
+    let prims = scene.primitives();
+    assert_eq!(prims.len(), 3);
+    assert!(Arc::ptr_eq(mesh_of(&prims[0]), mesh_of(&prims[1])));
+    assert!(Arc::ptr_eq(mesh_of(&prims[0]), mesh_of(&prims[2])), "same file, same normals: loaded once");
+    assert_eq!(mesh_of(&prims[0]).triangle_count(), 12);
+    assert_ne!(prims[0].material(), prims[1].material());
+}
+
+#[test]
+fn instances_place_prototypes_with_their_own_transform_and_material() {
+    let scene = parse(
+        r#"
+[prototypes.pair]
+material = "red"
+[[prototypes.pair.sphere]]
+center = [-1, 1, 0]
+[[prototypes.pair.mesh]]
+file = "cube_ascii.ply"
+[[instance]]
+prototype = "pair"
+[[instance]]
+prototype = "pair"
+material = "blue"
+transform = [{ translate = [0, 0, 5] }]
+"#,
+    )
+    .unwrap();
+    let prims = scene.primitives();
+    assert_eq!(prims.len(), 4);
+    let red = prims[0].material();
+    let blue = prims[2].material();
+    assert_ne!(red, blue);
+    assert_eq!(prims[1].material(), red);
+    assert_eq!(prims[3].material(), blue, "the instance's material replaces every member's");
+    // The second instance is moved by its transform.
+    let b0 = prims[0].bounds();
+    let b2 = prims[2].bounds();
+    assert!((b2.min.z - b0.min.z - 5.0).abs() < 1e-5);
+    assert!(Arc::ptr_eq(mesh_of(&prims[1]), mesh_of(&prims[3])));
+}
+
+#[test]
+fn a_prototype_that_contains_itself_is_refused() {
+    let e = parse(
+        r#"
+[prototypes.loop]
+material = "red"
+[[prototypes.loop.instance]]
+prototype = "loop"
+[[instance]]
+prototype = "loop"
+"#,
+    )
+    .unwrap_err();
+    assert!(e.message.contains("contains itself"), "{e}");
+    let e = parse("[[instance]]\nprototype = \"nope\"\n").unwrap_err();
+    assert!(e.message.contains("prototype \"nope\" is not defined"), "{e}");
+}
+
+#[test]
+fn obj_materials_become_scene_materials() {
+    let scene = parse("[[mesh]]\nfile = \"cube.obj\"\n").unwrap();
+    // Two scene materials of the test, plus the OBJ's own.
+    assert!(scene.materials().len() > 2, "{}", scene.materials().len());
+}
+
+#[test]
+fn bad_mesh_files_are_located_errors() {
+    for (file, what) in [
+        ("truncated.ply", "truncated"),
+        ("index_out_of_range.ply", "out of range"),
+        ("nan_coordinate.ply", "finite"),
+        ("missing.ply", "missing.ply"),
+        ("cube_list.txt", "must end in .ply or .obj"),
+    ] {
+        let e = parse(&format!("[[mesh]]\nfile = \"{file}\"\nmaterial = \"red\"\n")).unwrap_err();
+        let text = e.to_string();
+        assert!(text.to_lowercase().contains(what), "{file}: {text}");
+        assert!(text.contains(file), "{file}: the message names the file: {text}");
+        assert!(e.location.is_some(), "{file}: located: {text}");
+    }
+    let e = parse("[[mesh]]\nmesh = \"nope\"\nmaterial = \"red\"\n").unwrap_err();
+    assert!(e.message.contains("not defined under [meshes]"), "{e}");
+    let e = parse("[[mesh]]\nmaterial = \"red\"\n").unwrap_err();
+    assert!(e.message.contains("either `mesh`"), "{e}");
+}
