@@ -23,6 +23,7 @@ scenes=(
   dof-r2-f50 dof-r2-f80 dof-r2-f120 dof-r6-f80 dof-r2-f80-25spp
   transform-sphere transform-group
   materials falloff shadows spotlight
+  bunny bunnies
 )
 
 start=$SECONDS
