@@ -1,6 +1,8 @@
 //! Aggregates: structures that find the nearest of many primitives a ray
-//! hits. This release has the linear list; the interface is what a BVH will
-//! implement.
+//! hits. The scene uses a two-level BVH: [`MeshBvh`] over each mesh's
+//! triangles in object space, [`BvhAggregate`] over the placed primitives in
+//! world space. [`LinearAggregate`] tests everything and is the reference
+//! the BVHs are tested against.
 
 mod bvh;
 mod mesh_bvh;
@@ -55,28 +57,30 @@ impl BvhAggregate {
     }
 }
 
+/// Test every primitive of `prims`, keeping the closest hit in `closest`
+/// and shrinking `t_max` to it; returns whether any was hit.
+#[inline]
+fn closest_of(prims: &[Primitive], ray: &Ray, t_max: &mut f32, closest: &mut Option<SurfaceInteraction>) -> bool {
+    let mut hit = false;
+    for prim in prims {
+        if let Some(si) = prim.intersect(ray, *t_max) {
+            *t_max = si.t;
+            *closest = Some(si);
+            hit = true;
+        }
+    }
+    hit
+}
+
 impl Aggregate for BvhAggregate {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
         let mut t_max = t_max;
         let mut closest = None;
-        for prim in &self.unbounded {
-            if let Some(si) = prim.intersect(ray, t_max) {
-                t_max = si.t;
-                closest = Some(si);
-            }
-        }
+        closest_of(&self.unbounded, ray, &mut t_max, &mut closest);
         let box_ray = BoxRay::new(ray.origin, ray.dir);
         // Box tests use a closed interval; primitives keep t < t_max open.
         self.bvh.traverse_closest(&box_ray, 0.0, &mut t_max, |first, count, t_max| {
-            let mut hit = false;
-            for prim in &self.bounded[first as usize..(first + count) as usize] {
-                if let Some(si) = prim.intersect(ray, *t_max) {
-                    *t_max = si.t;
-                    closest = Some(si);
-                    hit = true;
-                }
-            }
-            hit
+            closest_of(&self.bounded[first as usize..(first + count) as usize], ray, t_max, &mut closest)
         });
         closest
     }
@@ -122,14 +126,8 @@ impl LinearAggregate {
 
 impl Aggregate for LinearAggregate {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
-        let mut closest = None;
-        let mut t_max = t_max;
-        for prim in &self.primitives {
-            if let Some(si) = prim.intersect(ray, t_max) {
-                t_max = si.t;
-                closest = Some(si);
-            }
-        }
+        let (mut t_max, mut closest) = (t_max, None);
+        closest_of(&self.primitives, ray, &mut t_max, &mut closest);
         closest
     }
 
