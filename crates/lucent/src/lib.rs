@@ -40,6 +40,7 @@
 #![warn(missing_docs)]
 
 pub mod accel;
+pub mod bsdf;
 pub mod camera;
 pub mod color;
 pub mod film;

@@ -1,6 +1,7 @@
 //! Materials: how a surface reflects light. A material describes the surface
 //! only; what light reaches it is the integrator's business.
 
+use crate::bsdf::Bxdf;
 use crate::color::Color;
 use crate::geometry::{reflect, Vec2, Vec3};
 use crate::texture::Texture;
@@ -19,7 +20,10 @@ pub enum MaterialError {
     },
 }
 
-/// A surface description of the classic renderer.
+/// A surface description.
+///
+/// The classic materials, for the Whitted integrator (and given an
+/// energy-conserving reading under the path tracer, see [`Material::bxdf`]):
 ///
 /// * **Matte** is a Lambertian reflector: BRDF `kd · colour / π`.
 /// * **Phong** adds a specular lobe `ks · max(0, r·wo)^exponent`, with `r`
@@ -30,8 +34,64 @@ pub enum MaterialError {
 ///
 /// Both reflect the scene's ambient light as `ka · colour · ambient`, where
 /// `ka` defaults to `kd`.
+///
+/// The physically based materials, for the path integrator: `Diffuse`,
+/// `Conductor`, `Dielectric` and `Plastic` (see [`crate::bsdf`]).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Material {
+pub enum Material {
+    /// Matte or Phong.
+    Classic(ClassicMaterial),
+    /// Lambertian reflection.
+    Diffuse {
+        /// Albedo, each channel in [0, 1].
+        reflectance: Texture,
+    },
+    /// A metal.
+    Conductor {
+        /// How the Fresnel reflectance is given.
+        fresnel: ConductorFresnel,
+        /// GGX roughness α (0: a perfect mirror).
+        roughness: f32,
+    },
+    /// Glass, water: reflects and refracts.
+    Dielectric {
+        /// Index of refraction of the inside (the outside is vacuum).
+        eta: f32,
+        /// GGX roughness α (0: smooth).
+        roughness: f32,
+        /// Scales transmitted light (white: clear glass).
+        tint: Color,
+    },
+    /// A diffuse base under a clear dielectric coat.
+    Plastic {
+        /// Albedo of the base.
+        reflectance: Texture,
+        /// Index of refraction of the coat.
+        eta: f32,
+        /// GGX roughness α of the coat (0: smooth).
+        roughness: f32,
+    },
+}
+
+/// The Fresnel reflectance of a conductor.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ConductorFresnel {
+    /// Complex index of refraction `eta + i·k` per RGB channel (e.g. gold:
+    /// eta (0.143, 0.374, 1.442), k (3.983, 2.385, 1.603)).
+    Complex {
+        /// Real part.
+        eta: Color,
+        /// Imaginary part (absorption).
+        k: Color,
+    },
+    /// Colour at normal incidence, with Schlick's approximation towards
+    /// white at grazing angles.
+    Reflectance(Texture),
+}
+
+/// The parameters of the classic matte and Phong materials.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClassicMaterial {
     /// Surface colour (albedo).
     pub color: Texture,
     /// Ambient coefficient.
@@ -61,44 +121,122 @@ impl Material {
     /// use lucent::material::Material;
     /// use lucent::color::Color;
     /// let red = Material::matte(Color::new(1.0, 0.0, 0.0), 0.8).unwrap();
-    /// assert_eq!(red.kr, 0.0);
+    /// assert_eq!(red.classic().unwrap().kr, 0.0);
     /// ```
     pub fn matte(color: impl Into<Texture>, kd: f32) -> Result<Self, MaterialError> {
         let kd = coefficient("kd", kd)?;
-        Ok(Self { color: color.into(), ka: kd, kd, ks: 0.0, exponent: 1.0, kr: 0.0 })
+        Ok(Self::Classic(ClassicMaterial { color: color.into(), ka: kd, kd, ks: 0.0, exponent: 1.0, kr: 0.0 }))
     }
 
     /// A Phong material with mirror reflection.
     pub fn phong(color: impl Into<Texture>, kd: f32, ks: f32, exponent: f32, kr: f32) -> Result<Self, MaterialError> {
         let kd = coefficient("kd", kd)?;
-        Ok(Self {
+        Ok(Self::Classic(ClassicMaterial {
             color: color.into(),
             ka: kd,
             kd,
             ks: coefficient("ks", ks)?,
             exponent: coefficient("exponent", exponent)?,
             kr: coefficient("kr", kr)?,
-        })
+        }))
     }
 
-    /// Override the ambient coefficient.
+    /// Override the ambient coefficient of a classic material (other
+    /// materials have none and are returned unchanged).
     pub fn with_ka(mut self, ka: f32) -> Result<Self, MaterialError> {
-        self.ka = coefficient("ka", ka)?;
+        if let Self::Classic(c) = &mut self {
+            c.ka = coefficient("ka", ka)?;
+        }
         Ok(self)
     }
 
-    /// The reflection model at a point with texture coordinates `uv`.
-    #[inline]
-    pub fn bsdf(&self, uv: Vec2) -> PhongBsdf {
-        let albedo = self.color.evaluate(uv);
-        PhongBsdf {
-            ambient: self.ka * albedo,
-            diffuse: self.kd * albedo * FRAC_1_PI,
-            ks: self.ks,
-            exponent: self.exponent,
-            kr: self.kr,
+    /// The classic parameters, for a matte or Phong material.
+    pub fn classic(&self) -> Option<&ClassicMaterial> {
+        match self {
+            Self::Classic(c) => Some(c),
+            _ => None,
         }
     }
+
+    /// The classic reflection model at a point with texture coordinates
+    /// `uv`, as the Whitted integrator sees it. Physically based materials
+    /// are approximated: a diffuse surface as matte, a conductor or a
+    /// dielectric as a mirror weighted by its reflectance at normal
+    /// incidence (the Whitted integrator does not refract), plastic as
+    /// matte plus that mirror.
+    #[inline]
+    pub fn bsdf(&self, uv: Vec2) -> PhongBsdf {
+        let matte = |albedo: Color, kr: Color| PhongBsdf {
+            ambient: albedo,
+            diffuse: albedo * FRAC_1_PI,
+            ks: 0.0,
+            exponent: 1.0,
+            kr,
+        };
+        match self {
+            Self::Classic(m) => {
+                let albedo = m.color.evaluate(uv);
+                PhongBsdf {
+                    ambient: m.ka * albedo,
+                    diffuse: m.kd * albedo * FRAC_1_PI,
+                    ks: m.ks,
+                    exponent: m.exponent,
+                    kr: Color::splat(m.kr),
+                }
+            }
+            Self::Diffuse { reflectance } => matte(reflectance.evaluate(uv), Color::ZERO),
+            Self::Conductor { fresnel, .. } => {
+                let r0 = match fresnel {
+                    ConductorFresnel::Complex { eta, k } => {
+                        // Normal-incidence reflectance of a conductor:
+                        // ((η-1)² + k²) / ((η+1)² + k²).
+                        let one = Color::ONE;
+                        ((*eta - one) * (*eta - one) + *k * *k) / ((*eta + one) * (*eta + one) + *k * *k)
+                    }
+                    ConductorFresnel::Reflectance(t) => t.evaluate(uv),
+                };
+                matte(Color::ZERO, r0)
+            }
+            Self::Dielectric { eta, .. } => matte(Color::ZERO, Color::splat(dielectric_r0(*eta))),
+            Self::Plastic { reflectance, eta, .. } => {
+                matte(reflectance.evaluate(uv), Color::splat(dielectric_r0(*eta)))
+            }
+        }
+    }
+
+    /// The scattering function of the path integrator at a point with
+    /// texture coordinates `uv`.
+    ///
+    /// The classic materials are read so as to conserve energy: matte is
+    /// Lambertian with albedo `kd·colour`; Phong is that plus a normalised
+    /// Phong lobe (Lafortune & Willems 1994) of weight `ks` and a perfect
+    /// mirror of weight `kr` (see [`Bxdf::phong`]).
+    pub fn bxdf(&self, uv: Vec2) -> Bxdf {
+        match self {
+            Self::Classic(m) => {
+                let albedo = m.kd * m.color.evaluate(uv);
+                if m.ks == 0.0 && m.kr == 0.0 {
+                    Bxdf::diffuse(albedo)
+                } else {
+                    Bxdf::phong(albedo, m.ks, m.exponent, m.kr)
+                }
+            }
+            Self::Diffuse { reflectance } => Bxdf::diffuse(reflectance.evaluate(uv)),
+            Self::Conductor { fresnel, roughness } => match fresnel {
+                ConductorFresnel::Complex { eta, k } => Bxdf::conductor(*eta, *k, *roughness),
+                ConductorFresnel::Reflectance(t) => Bxdf::conductor_schlick(t.evaluate(uv), *roughness),
+            },
+            Self::Dielectric { eta, roughness, tint } => Bxdf::dielectric(*eta, *roughness, *tint),
+            Self::Plastic { reflectance, eta, roughness } => Bxdf::plastic(reflectance.evaluate(uv), *eta, *roughness),
+        }
+    }
+}
+
+/// Reflectance of a dielectric interface at normal incidence,
+/// `((η-1)/(η+1))²`.
+fn dielectric_r0(eta: f32) -> f32 {
+    let r = (eta - 1.0) / (eta + 1.0);
+    r * r
 }
 
 /// The classic reflection model evaluated at one point.
@@ -112,8 +250,8 @@ pub struct PhongBsdf {
     pub ks: f32,
     /// Phong exponent.
     pub exponent: f32,
-    /// Mirror reflectivity.
-    pub kr: f32,
+    /// Mirror reflectivity, per channel.
+    pub kr: Color,
 }
 
 impl PhongBsdf {

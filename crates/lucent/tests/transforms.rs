@@ -168,7 +168,10 @@ fn compose(ops: &[Op]) -> DMat4 {
 
 /// The primitive whose material has colour `c`.
 fn by_color(scene: &Scene, c: Color) -> &Primitive {
-    let mut found = scene.primitives().iter().filter(|p| scene.material(p.material()).color == Texture::Constant(c));
+    let mut found = scene
+        .primitives()
+        .iter()
+        .filter(|p| scene.material(p.material()).classic().is_some_and(|m| m.color == Texture::Constant(c)));
     let p = found.next().unwrap_or_else(|| panic!("no primitive with colour {c}"));
     assert!(found.next().is_none(), "several primitives with colour {c}");
     p

@@ -1,9 +1,11 @@
 //! The film: the image being formed, in linear radiance, and its conversion
 //! to display values and files.
 
+mod filter;
 mod output;
 mod tonemap;
 
+pub use filter::{Filter, FilterSample, FilterSampler};
 pub use output::{ImageFormat, OutputError, PendingImage};
 pub use tonemap::{srgb_encode, ToneMap};
 

@@ -31,7 +31,7 @@ impl Integrator for WhittedIntegrator {
     fn li(&self, scene: &Scene, camera_ray: &Ray, stats: &mut RayStats) -> Color {
         stats.camera += 1;
         let mut radiance = Color::ZERO;
-        let mut throughput = 1.0f32;
+        let mut throughput = Color::ONE;
         let mut ray = *camera_ray;
         let mut depth = 0;
         loop {
@@ -68,7 +68,7 @@ impl Integrator for WhittedIntegrator {
             }
             radiance += throughput * l;
 
-            if bsdf.kr <= 0.0 || depth >= self.max_depth {
+            if bsdf.kr.max_element() <= 0.0 || depth >= self.max_depth {
                 return radiance;
             }
             throughput *= bsdf.kr;

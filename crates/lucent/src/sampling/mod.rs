@@ -6,8 +6,10 @@
 
 mod pattern;
 mod rng;
+mod sampler;
 mod warp;
 
 pub use pattern::{stratified_2d, PixelSampler};
 pub use rng::{mix_seed, Pcg32};
+pub use sampler::{PathSampler, SamplerKind};
 pub use warp::concentric_disk;

@@ -242,24 +242,24 @@ impl SceneFile {
         };
         let m = match m {
             MaterialDesc::Matte(m) => {
-                let mut mat = Material::matte(texture(&m.color, &m.checker)?, m.kd.get());
-                if let (Ok(x), Some(ka)) = (&mut mat, m.ka) {
-                    x.ka = ka.get();
+                let mat = Material::matte(texture(&m.color, &m.checker)?, m.kd.get());
+                match m.ka {
+                    Some(ka) => mat.and_then(|x| x.with_ka(ka.get())),
+                    None => mat,
                 }
-                mat
             }
             MaterialDesc::Phong(p) => {
-                let mut mat = Material::phong(
+                let mat = Material::phong(
                     texture(&p.color, &p.checker)?,
                     p.kd.get(),
                     p.ks.get(),
                     p.exponent.get(),
                     p.kr.map_or(0.0, NonNegative::get),
                 );
-                if let (Ok(x), Some(ka)) = (&mut mat, p.ka) {
-                    x.ka = ka.get();
+                match p.ka {
+                    Some(ka) => mat.and_then(|x| x.with_ka(ka.get())),
+                    None => mat,
                 }
-                mat
             }
         };
         m.map_err(|e| self.error(at(), format!("material \"{name}\": {e}")))

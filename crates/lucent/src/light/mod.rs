@@ -1,6 +1,21 @@
-//! Light sources of the classic renderer: point, spot and directional (all
-//! "delta" lights: each shaded point sees them from exactly one direction).
-//! Ambient light is a property of the scene, see [`crate::scene::Scene`].
+//! Light sources.
+//!
+//! [`Light`] is a light of the classic renderer: point, spot or directional
+//! (all "delta" lights: each shaded point sees them from exactly one
+//! direction). Ambient light is a property of the scene, see
+//! [`crate::scene::Scene`]. The path integrator also has area lights
+//! (emissive surfaces) and environment lights; [`Emitter`] is any of them
+//! and a [`LightSet`] picks one to sample.
+
+mod area;
+mod emitter;
+mod environment;
+mod set;
+
+pub use area::{AreaLight, AreaShape};
+pub use emitter::{Emitter, LiSample, LightSampleContext};
+pub use environment::Environment;
+pub use set::LightSet;
 
 use crate::color::Color;
 use crate::geometry::Vec3;
