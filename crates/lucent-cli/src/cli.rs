@@ -45,6 +45,33 @@ pub struct SceneOverrides {
     /// Random seed (overrides the scene).
     #[arg(long)]
     pub seed: Option<u64>,
+    /// Light transport algorithm (overrides the scene).
+    #[arg(long, value_enum)]
+    pub integrator: Option<IntegratorArg>,
+    /// Sample sequence of the path integrator (overrides the scene).
+    #[arg(long, value_enum)]
+    pub sampler: Option<SamplerArg>,
+    /// Most bounces, 0 to 10000 (overrides the scene).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=10_000))]
+    pub max_depth: Option<u32>,
+}
+
+/// `--integrator` values.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntegratorArg {
+    /// Classic ray tracing: hard shadows, mirrors, ambient light.
+    Whitted,
+    /// Path tracing: global illumination, area lights, glass and metal.
+    Path,
+}
+
+/// `--sampler` values.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SamplerArg {
+    /// Owen-scrambled Sobol (low discrepancy).
+    Sobol,
+    /// Independent random numbers.
+    Independent,
 }
 
 #[derive(Args, Debug)]
@@ -65,6 +92,28 @@ pub struct RenderArgs {
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Path tracer: render for this many seconds (stopping after the last
+    /// pass that fits), up to --spp if that is given too.
+    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
+    pub time: Option<f64>,
+    /// Path tracer: every SECONDS, write the image so far to the output and
+    /// the accumulated samples to OUTPUT.ckpt, so the render can be watched
+    /// and resumed.
+    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
+    pub checkpoint_every: Option<f64>,
+    /// Path tracer: continue from OUTPUT.ckpt (an interrupted render, or a
+    /// finished one to which --spp adds samples); the result is identical
+    /// to rendering in one go.
+    #[arg(long)]
+    pub resume: bool,
+}
+
+/// A duration in seconds: a finite number > 0.
+fn positive_seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 && v <= 1e9 => Ok(v),
+        _ => Err(format!("expected a number of seconds > 0, got '{s}'")),
+    }
 }
 
 #[derive(Args, Debug)]

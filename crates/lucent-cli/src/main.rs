@@ -12,6 +12,7 @@ macro_rules! say {
 mod bench;
 mod bench_rays;
 mod cli;
+mod path_render;
 mod progress;
 
 use clap::Parser;
@@ -68,6 +69,21 @@ pub fn apply_overrides(file: &mut SceneFile, args: &cli::SceneOverrides) -> Resu
     if let Some(seed) = args.seed {
         r.seed = seed;
     }
+    if let Some(i) = args.integrator {
+        r.integrator = match i {
+            cli::IntegratorArg::Whitted => lucent::scene::IntegratorDesc::Whitted,
+            cli::IntegratorArg::Path => lucent::scene::IntegratorDesc::Path,
+        };
+    }
+    if let Some(s) = args.sampler {
+        r.sampler = match s {
+            cli::SamplerArg::Sobol => lucent::scene::SamplerDesc::Sobol,
+            cli::SamplerArg::Independent => lucent::scene::SamplerDesc::Independent,
+        };
+    }
+    if let Some(d) = args.max_depth {
+        r.max_depth = Some(lucent::scene::MaxDepth(d));
+    }
     if args.width.is_some() || args.height.is_some() {
         lucent::film::check_image_size(r.width.0, r.height.0).map_err(|e| {
             let given: Vec<String> = [("--width", args.width), ("--height", args.height)]
@@ -87,6 +103,20 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
     warn(&scene, args.quiet);
 
     let out_path = args.output.clone().unwrap_or_else(|| default_output(args.scene.as_deref()));
+    if scene.settings.integrator == lucent::render::IntegratorKind::Path {
+        return path_render::run(args, &file, &scene, &out_path);
+    }
+    for (flag, given) in [
+        ("--time", args.time.is_some()),
+        ("--checkpoint-every", args.checkpoint_every.is_some()),
+        ("--resume", args.resume),
+    ] {
+        if given {
+            return Err(format!(
+                "{flag} needs the path integrator (set `integrator = \"path\"` in [render], or --integrator path)"
+            ));
+        }
+    }
     // Reserve the output before rendering: a bad path fails now, not after
     // the render, and the existing file is untouched until the new one is
     // complete.

@@ -25,6 +25,9 @@ pub struct SurfaceInteraction {
     pub uv: Vec2,
     /// The surface's material.
     pub material: MaterialId,
+    /// The area light this point belongs to, if the surface emits: an
+    /// index into [`crate::scene::Scene::area_lights`].
+    pub light: Option<u32>,
 }
 
 impl SurfaceInteraction {

@@ -1,10 +1,14 @@
 //! The film: the image being formed, in linear radiance, and its conversion
 //! to display values and files.
 
+mod accumulator;
+mod checkpoint;
 mod filter;
 mod output;
 mod tonemap;
 
+pub use accumulator::{add_sample, Accumulator};
+pub use checkpoint::{load_checkpoint, save_checkpoint, CheckpointError};
 pub use filter::{Filter, FilterSample, FilterSampler};
 pub use output::{ImageFormat, OutputError, PendingImage};
 pub use tonemap::{srgb_encode, ToneMap};

@@ -1,10 +1,14 @@
 //! Integrators: light transport. An integrator answers "how much light
 //! arrives along this ray?" using the scene's geometry, materials and
-//! lights. This release has the classic Whitted integrator; a path tracer
-//! will sit beside it behind the same trait.
+//! lights. There are two: the classic [`WhittedIntegrator`] (hard shadows,
+//! perfect mirrors, ambient light) and the physically based
+//! [`PathIntegrator`] (global illumination with multiple importance
+//! sampling).
 
+mod path;
 mod whitted;
 
+pub use path::{power_heuristic, PathIntegrator};
 pub use whitted::WhittedIntegrator;
 
 use crate::color::Color;

@@ -39,6 +39,10 @@ impl Integrator for WhittedIntegrator {
                 return radiance + throughput * scene.settings.background;
             };
             let wo = -ray.dir.normalize();
+            // An emissive surface shows its own radiance.
+            if let Some(light) = si.light {
+                radiance += throughput * scene.area_lights()[light as usize].l(si.n, wo);
+            }
             // Shade the side the ray arrived on: surfaces are two-sided.
             let ng = face_forward(si.n, wo);
             let ns = face_forward(si.ns, ng);

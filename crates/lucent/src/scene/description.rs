@@ -239,6 +239,9 @@ pub struct SceneDescription {
     /// Image and sampling settings.
     #[serde(default)]
     pub render: RenderDesc,
+    /// Environment light (path integrator).
+    #[serde(default)]
+    pub environment: Option<EnvironmentDesc>,
     /// Ambient light.
     #[serde(default)]
     pub ambient: Option<AmbientDesc>,
@@ -263,6 +266,9 @@ pub struct SceneDescription {
     /// Triangles.
     #[serde(default)]
     pub triangle: Vec<TriangleDesc>,
+    /// Quadrilaterals.
+    #[serde(default)]
+    pub quad: Vec<QuadDesc>,
     /// Groups of objects with a shared transform.
     #[serde(default)]
     pub group: Vec<GroupDesc>,
@@ -337,9 +343,9 @@ pub struct RenderDesc {
     /// Samples per pixel (default 16).
     #[serde(default = "default_spp")]
     pub spp: SampleCount,
-    /// Most mirror bounces (default 5).
-    #[serde(default = "default_max_depth")]
-    pub max_depth: MaxDepth,
+    /// Most bounces (default 5 for `whitted`, 64 for `path`).
+    #[serde(default)]
+    pub max_depth: Option<MaxDepth>,
     /// Background radiance (default black).
     #[serde(default = "default_background")]
     pub background: Rgb,
@@ -352,6 +358,91 @@ pub struct RenderDesc {
     /// Random seed (default 0).
     #[serde(default)]
     pub seed: u64,
+    /// Light transport algorithm (default `whitted`).
+    #[serde(default)]
+    pub integrator: IntegratorDesc,
+    /// Sample sequence of the path integrator (default `sobol`).
+    #[serde(default)]
+    pub sampler: SamplerDesc,
+    /// Pixel filter of the path integrator (default: a box over the pixel).
+    #[serde(default)]
+    pub filter: Option<FilterDesc>,
+}
+
+/// The integrators, as named in scene files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum IntegratorDesc {
+    /// Classic ray tracing.
+    #[default]
+    Whitted,
+    /// Path tracing.
+    Path,
+}
+
+/// The samplers, as named in scene files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum SamplerDesc {
+    /// Owen-scrambled Sobol.
+    #[default]
+    Sobol,
+    /// Independent uniform random numbers.
+    Independent,
+}
+
+/// Filter kinds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FilterKindDesc {
+    /// Box.
+    Box,
+    /// Tent (triangle).
+    Tent,
+    /// Gaussian.
+    Gaussian,
+    /// Mitchell–Netravali.
+    Mitchell,
+}
+
+/// `filter = { kind = "...", radius = ... }` in `[render]`.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilterDesc {
+    /// Which filter.
+    pub kind: FilterKindDesc,
+    /// Radius in pixels (defaults: box 0.5, tent 1, gaussian 1.5, mitchell 2).
+    #[serde(default)]
+    pub radius: Option<Positive>,
+    /// Gaussian standard deviation (default 0.5).
+    #[serde(default)]
+    pub sigma: Option<Positive>,
+    /// Mitchell B (default 1/3).
+    #[serde(default)]
+    pub b: Option<Finite>,
+    /// Mitchell C (default 1/3).
+    #[serde(default)]
+    pub c: Option<Finite>,
+}
+
+/// The `[environment]` table: light from infinitely far away, for the path
+/// integrator.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnvironmentDesc {
+    /// A constant colour (default white, unless `file` is given).
+    #[serde(default)]
+    pub color: Option<Rgb>,
+    /// An equirectangular (latitude–longitude) `.hdr` or `.exr` image,
+    /// relative to the scene file.
+    #[serde(default)]
+    pub file: Option<String>,
+    /// Multiplier (default 1).
+    #[serde(default = "one")]
+    pub intensity: NonNegative,
+    /// Rotation of the image about +y, in degrees (default 0).
+    #[serde(default)]
+    pub rotation: Option<Finite>,
 }
 
 fn default_width() -> ImageDimension {
@@ -362,9 +453,6 @@ fn default_height() -> ImageDimension {
 }
 fn default_spp() -> SampleCount {
     SampleCount(16)
-}
-fn default_max_depth() -> MaxDepth {
-    MaxDepth(5)
 }
 fn default_background() -> Rgb {
     Rgb([0.0; 3])
@@ -379,11 +467,14 @@ impl Default for RenderDesc {
             width: default_width(),
             height: default_height(),
             spp: default_spp(),
-            max_depth: default_max_depth(),
+            max_depth: None,
             background: default_background(),
             tone_map: ToneMapDesc::default(),
             srgb: true,
             seed: 0,
+            integrator: IntegratorDesc::default(),
+            sampler: SamplerDesc::default(),
+            filter: None,
         }
     }
 }
@@ -431,6 +522,94 @@ pub enum MaterialDesc {
     Matte(MatteDesc),
     /// Phong with mirror reflection.
     Phong(PhongDesc),
+    /// Lambertian (path integrator).
+    Diffuse(DiffuseDesc),
+    /// Metal.
+    Conductor(ConductorDesc),
+    /// Glass.
+    Dielectric(DielectricDesc),
+    /// Diffuse under a clear coat.
+    Plastic(PlasticDesc),
+}
+
+/// Keys of a diffuse material.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiffuseDesc {
+    /// Albedo, each channel ≤ 1 (default white), or give `checker`.
+    #[serde(default)]
+    pub color: Option<Rgb>,
+    /// A checkerboard albedo.
+    #[serde(default)]
+    pub checker: Option<CheckerDesc>,
+}
+
+/// Named conductors with measured complex indices of refraction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MetalDesc {
+    /// Gold.
+    Gold,
+    /// Silver.
+    Silver,
+    /// Copper.
+    Copper,
+    /// Aluminium.
+    Aluminium,
+}
+
+/// Keys of a conductor: give `color`, or `eta` and `k`, or `metal`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConductorDesc {
+    /// Reflectance at normal incidence (Schlick's approximation).
+    #[serde(default)]
+    pub color: Option<Rgb>,
+    /// Real part of the complex index of refraction, per channel.
+    #[serde(default)]
+    pub eta: Option<Rgb>,
+    /// Imaginary part (absorption), per channel.
+    #[serde(default)]
+    pub k: Option<Rgb>,
+    /// A named metal.
+    #[serde(default)]
+    pub metal: Option<MetalDesc>,
+    /// GGX roughness α from 0 (mirror) to 1 (default 0).
+    #[serde(default)]
+    pub roughness: Option<NonNegative>,
+}
+
+/// Keys of a dielectric.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DielectricDesc {
+    /// Index of refraction (default 1.5).
+    #[serde(default)]
+    pub eta: Option<Positive>,
+    /// GGX roughness α from 0 (smooth) to 1 (default 0).
+    #[serde(default)]
+    pub roughness: Option<NonNegative>,
+    /// Colour of transmitted light (default white).
+    #[serde(default)]
+    pub tint: Option<Rgb>,
+}
+
+/// Keys of a plastic.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlasticDesc {
+    /// Albedo of the diffuse base (default white), or give `checker`.
+    #[serde(default)]
+    pub color: Option<Rgb>,
+    /// A checkerboard albedo.
+    #[serde(default)]
+    pub checker: Option<CheckerDesc>,
+    /// Index of refraction of the coat (default 1.5).
+    #[serde(default)]
+    pub eta: Option<Positive>,
+    /// GGX roughness α of the coat from 0 (smooth) to 1 (default 0).
+    #[serde(default)]
+    pub roughness: Option<NonNegative>,
 }
 
 /// A material is a table with exactly one key, its kind. Written by hand
@@ -439,19 +618,25 @@ pub enum MaterialDesc {
 impl<'de> Deserialize<'de> for MaterialDesc {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         struct KindVisitor;
-        const KINDS: &[&str] = &["matte", "phong"];
+        const KINDS: &[&str] = &["matte", "phong", "diffuse", "conductor", "dielectric", "plastic"];
         impl<'de> Visitor<'de> for KindVisitor {
             type Value = MaterialDesc;
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a material table with one kind: `matte` or `phong`")
+                f.write_str("a material table with one kind: `matte`, `phong`, `diffuse`, `conductor`, `dielectric` or `plastic`")
             }
             fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<MaterialDesc, A::Error> {
                 let Some(kind) = map.next_key::<String>()? else {
-                    return Err(A::Error::custom("a material needs a kind: `matte` or `phong`"));
+                    return Err(A::Error::custom(
+                        "a material needs a kind: `matte`, `phong`, `diffuse`, `conductor`, `dielectric` or `plastic`",
+                    ));
                 };
                 let material = match kind.as_str() {
                     "matte" => MaterialDesc::Matte(map.next_value()?),
                     "phong" => MaterialDesc::Phong(map.next_value()?),
+                    "diffuse" => MaterialDesc::Diffuse(map.next_value()?),
+                    "conductor" => MaterialDesc::Conductor(map.next_value()?),
+                    "dielectric" => MaterialDesc::Dielectric(map.next_value()?),
+                    "plastic" => MaterialDesc::Plastic(map.next_value()?),
                     _ => return Err(A::Error::unknown_variant(&kind, KINDS)),
                 };
                 if let Some(second) = map.next_key::<String>()? {
@@ -673,6 +858,14 @@ pub struct SphereDesc {
     /// Material name (default: the enclosing group's).
     #[serde(default)]
     pub material: Option<String>,
+    /// Emitted radiance: the surface becomes an area light (path
+    /// integrator).
+    #[serde(default)]
+    pub emission: Option<Rgb>,
+    /// Whether an emitting surface emits from both sides (default: front
+    /// only).
+    #[serde(default)]
+    pub two_sided: bool,
     /// Object transform.
     #[serde(default)]
     pub transform: Vec<TransformOp>,
@@ -719,6 +912,41 @@ pub struct TriangleDesc {
     /// Material name.
     #[serde(default)]
     pub material: Option<String>,
+    /// Emitted radiance: the surface becomes an area light (path
+    /// integrator).
+    #[serde(default)]
+    pub emission: Option<Rgb>,
+    /// Whether an emitting surface emits from both sides (default: front
+    /// only).
+    #[serde(default)]
+    pub two_sided: bool,
+    /// Object transform.
+    #[serde(default)]
+    pub transform: Vec<TransformOp>,
+}
+
+/// A `[[quad]]`: a planar quadrilateral, made of the two triangles
+/// (v0, v1, v2) and (v0, v2, v3).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct QuadDesc {
+    /// Optional name for messages.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// The four corners in order around the quad, counter-clockwise seen
+    /// from the front.
+    pub vertices: [Vec3Desc; 4],
+    /// Material name.
+    #[serde(default)]
+    pub material: Option<String>,
+    /// Emitted radiance: the surface becomes an area light (path
+    /// integrator).
+    #[serde(default)]
+    pub emission: Option<Rgb>,
+    /// Whether an emitting surface emits from both sides (default: front
+    /// only).
+    #[serde(default)]
+    pub two_sided: bool,
     /// Object transform.
     #[serde(default)]
     pub transform: Vec<TransformOp>,
@@ -746,6 +974,9 @@ pub struct GroupDesc {
     /// Member triangles.
     #[serde(default)]
     pub triangle: Vec<TriangleDesc>,
+    /// Member quads.
+    #[serde(default)]
+    pub quad: Vec<QuadDesc>,
     /// Nested groups.
     #[serde(default)]
     pub group: Vec<GroupDesc>,
@@ -801,6 +1032,14 @@ pub struct MeshDesc {
     /// else the group's material.
     #[serde(default)]
     pub material: Option<String>,
+    /// Emitted radiance: the surface becomes an area light (path
+    /// integrator).
+    #[serde(default)]
+    pub emission: Option<Rgb>,
+    /// Whether an emitting surface emits from both sides (default: front
+    /// only).
+    #[serde(default)]
+    pub two_sided: bool,
     /// Object transform.
     #[serde(default)]
     pub transform: Vec<TransformOp>,

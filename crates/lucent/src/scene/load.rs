@@ -5,11 +5,14 @@ use super::error::{SceneError, SourceLocation};
 use super::{MaterialId, Primitive, Scene};
 use crate::camera::{Camera, CameraError, ThinLens};
 use crate::color::Color;
-use crate::film::{check_image_size, ToneMap};
+use crate::film::{check_image_size, Filter, ToneMap};
 use crate::geometry::{Mat4, Transform, Vec3};
+use crate::light::Environment;
 use crate::light::{Falloff, Light};
+use crate::material::ConductorFresnel;
 use crate::material::Material;
-use crate::render::RenderSettings;
+use crate::render::{IntegratorKind, RenderSettings};
+use crate::sampling::SamplerKind;
 use crate::shapes::{Mesh, Plane, Shape, Sphere, Triangle};
 use crate::texture::Texture;
 use std::collections::HashMap;
@@ -155,9 +158,17 @@ impl SceneFile {
         }
 
         let mut scene = Scene::new(camera);
+        let integrator = match r.integrator {
+            IntegratorDesc::Whitted => IntegratorKind::Whitted,
+            IntegratorDesc::Path => IntegratorKind::Path,
+        };
+        let default_depth = match integrator {
+            IntegratorKind::Whitted => 5,
+            IntegratorKind::Path => 64,
+        };
         scene.settings = RenderSettings {
             spp: r.spp.0,
-            max_depth: r.max_depth.0,
+            max_depth: r.max_depth.map_or(default_depth, |d| d.0),
             background: r.background.into(),
             tone_map: match r.tone_map {
                 ToneMapDesc::Classic => ToneMap::Classic,
@@ -167,7 +178,19 @@ impl SceneFile {
             },
             srgb: r.srgb,
             seed: r.seed,
+            integrator,
+            sampler: match r.sampler {
+                SamplerDesc::Sobol => SamplerKind::Sobol,
+                SamplerDesc::Independent => SamplerKind::Independent,
+            },
+            filter: match r.filter {
+                None => Filter::default(),
+                Some(f) => self.filter(&f)?,
+            },
         };
+        if let Some(env) = &d.environment {
+            scene.set_environment(Some(self.environment(env)?));
+        }
         if let Some(a) = &d.ambient {
             scene.ambient = Color::from(a.color) * a.intensity.get();
         }
@@ -218,6 +241,7 @@ impl SceneFile {
             sphere: d.sphere.clone(),
             plane: d.plane.clone(),
             triangle: d.triangle.clone(),
+            quad: d.quad.clone(),
             group: d.group.clone(),
             mesh: d.mesh.clone(),
             instance: d.instance.clone(),
@@ -261,8 +285,113 @@ impl SceneFile {
                     None => mat,
                 }
             }
+            MaterialDesc::Diffuse(d) => {
+                let reflectance = texture(&d.color, &d.checker)?;
+                check_albedo(&reflectance).map_err(|e| self.error(at(), format!("material \"{name}\": {e}")))?;
+                Ok(Material::Diffuse { reflectance })
+            }
+            MaterialDesc::Conductor(c) => {
+                let fresnel = match (c.color, c.eta, c.k, c.metal) {
+                    (Some(color), None, None, None) => ConductorFresnel::Reflectance(Texture::Constant(color.into())),
+                    (None, Some(eta), Some(k), None) => ConductorFresnel::Complex { eta: eta.into(), k: k.into() },
+                    (None, None, None, Some(metal)) => {
+                        let (eta, k) = metal_ior(metal);
+                        ConductorFresnel::Complex { eta, k }
+                    }
+                    (None, None, None, None) => ConductorFresnel::Reflectance(Texture::Constant(Color::ONE)),
+                    _ => {
+                        return Err(self.error(
+                            at(),
+                            format!("material \"{name}\": give one of `color`, `eta` with `k`, or `metal`"),
+                        ))
+                    }
+                };
+                if let ConductorFresnel::Reflectance(t) = &fresnel {
+                    check_albedo(t).map_err(|e| self.error(at(), format!("material \"{name}\": {e}")))?;
+                }
+                let roughness = self.roughness(name, c.roughness)?;
+                Ok(Material::Conductor { fresnel, roughness })
+            }
+            MaterialDesc::Dielectric(d) => Ok(Material::Dielectric {
+                eta: d.eta.map_or(1.5, Positive::get),
+                roughness: self.roughness(name, d.roughness)?,
+                tint: d.tint.map_or(Color::ONE, Color::from),
+            }),
+            MaterialDesc::Plastic(p) => {
+                let reflectance = texture(&p.color, &p.checker)?;
+                check_albedo(&reflectance).map_err(|e| self.error(at(), format!("material \"{name}\": {e}")))?;
+                Ok(Material::Plastic {
+                    reflectance,
+                    eta: p.eta.map_or(1.5, Positive::get),
+                    roughness: self.roughness(name, p.roughness)?,
+                })
+            }
         };
         m.map_err(|e| self.error(at(), format!("material \"{name}\": {e}")))
+    }
+
+    /// A GGX roughness, checked to lie in [0, 1].
+    fn roughness(&self, name: &str, r: Option<NonNegative>) -> Result<f32, SceneError> {
+        let r = r.map_or(0.0, NonNegative::get);
+        if r > 1.0 {
+            return Err(self.error(
+                find_key(&self.source, "roughness", 0).or_else(|| find_table(&self.source, name)),
+                format!("material \"{name}\": roughness must be from 0 (smooth) to 1, got {r}"),
+            ));
+        }
+        Ok(r)
+    }
+
+    fn filter(&self, f: &FilterDesc) -> Result<Filter, SceneError> {
+        let radius = |default: f32| f.radius.map_or(default, Positive::get);
+        let filter = match f.kind {
+            FilterKindDesc::Box => Filter::Box { radius: radius(0.5) },
+            FilterKindDesc::Tent => Filter::Tent { radius: radius(1.0) },
+            FilterKindDesc::Gaussian => {
+                Filter::Gaussian { radius: radius(1.5), sigma: f.sigma.map_or(0.5, Positive::get) }
+            }
+            FilterKindDesc::Mitchell => Filter::Mitchell {
+                radius: radius(2.0),
+                b: f.b.map_or(1.0 / 3.0, Finite::get),
+                c: f.c.map_or(1.0 / 3.0, Finite::get),
+            },
+        };
+        let applies = |key: &str| {
+            matches!((f.kind, key), (FilterKindDesc::Gaussian, "sigma") | (FilterKindDesc::Mitchell, "b" | "c"))
+        };
+        for (key, given) in [("sigma", f.sigma.is_some()), ("b", f.b.is_some()), ("c", f.c.is_some())] {
+            if given && !applies(key) {
+                return Err(self.error(
+                    find_key(&self.source, key, 0).or_else(|| find_key(&self.source, "filter", 0)),
+                    format!("[render] filter: `{key}` does not apply to a {:?} filter", f.kind).to_lowercase(),
+                ));
+            }
+        }
+        Ok(filter)
+    }
+
+    fn environment(&self, env: &EnvironmentDesc) -> Result<Environment, SceneError> {
+        let at = || find_header(&self.source, "environment");
+        let scale = env.intensity.get();
+        match (&env.file, env.color) {
+            (Some(_), Some(_)) => Err(self.error(at(), "[environment]: give `color` or `file`, not both")),
+            (None, color) => {
+                if env.rotation.is_some() {
+                    return Err(self.error(at(), "[environment]: `rotation` applies to an image (`file`)"));
+                }
+                Ok(Environment::Constant(color.map_or(Color::ONE, Color::from) * scale))
+            }
+            (Some(file), None) => {
+                let path = match self.path.as_ref().and_then(|p| p.parent()) {
+                    Some(dir) => dir.join(file),
+                    None => PathBuf::from(file),
+                };
+                let rotation = env.rotation.map_or(0.0, Finite::get);
+                Environment::from_file(&path, scale, rotation).map_err(|e| {
+                    self.error(find_value(&self.source, "file", file).or_else(at), format!("[environment]: {e}"))
+                })
+            }
+        }
     }
 
     fn add_group(
@@ -289,35 +418,36 @@ impl SceneFile {
             self.material_id(ctx, what, name)
         };
         let add = |ctx: &mut BuildContext,
-                   kind: &str,
-                   index: usize,
-                   name: &Option<String>,
+                   obj: Object<'_>,
                    shape: Result<Shape, crate::shapes::ShapeError>,
-                   own_material: &Option<String>,
-                   ops: &[TransformOp],
                    scene: &mut Scene|
          -> Result<(), SceneError> {
-            let what = describe(label, kind, index, name);
-            let at = locate(kind, index);
+            let what = describe(label, obj.kind, obj.index, obj.name);
+            let at = locate(obj.kind, obj.index);
             let shape = shape.map_err(|e| self.error(at, format!("{what}: {e}")))?;
-            let id = resolve(ctx, &what, own_material.as_deref(), at)?;
-            let t = self.transform(ops, &what, at)?.then(&group_transform);
-            scene.add(Primitive::new(shape, t, id));
-            Ok(())
+            let id = resolve(ctx, &what, obj.material.as_deref(), at)?;
+            let t = self.transform(obj.transform, &what, at)?.then(&group_transform);
+            self.place(scene, Primitive::new(shape, t, id), obj.emission, &what, at)
         };
         for (i, s) in group.sphere.iter().enumerate() {
             let shape = Sphere::new(s.center.into(), s.radius.get()).map(Shape::from);
-            add(ctx, "sphere", i, &s.name, shape, &s.material, &s.transform, scene)?;
+            let obj = Object::new("sphere", i, &s.name, &s.material, &s.transform, (s.emission, s.two_sided));
+            add(ctx, obj, shape, scene)?;
         }
         for (i, p) in group.plane.iter().enumerate() {
             let shape = Plane::new(p.point.into(), p.normal.into()).map(Shape::from);
-            add(ctx, "plane", i, &p.name, shape, &p.material, &p.transform, scene)?;
+            add(ctx, Object::new("plane", i, &p.name, &p.material, &p.transform, (None, false)), shape, scene)?;
         }
         for (i, t) in group.triangle.iter().enumerate() {
             let v = t.vertices.map(Vec3::from);
             let n = t.normals.map(|n| n.map(Vec3::from));
             let shape = Triangle::new(v, n).map(Shape::from);
-            add(ctx, "triangle", i, &t.name, shape, &t.material, &t.transform, scene)?;
+            let obj = Object::new("triangle", i, &t.name, &t.material, &t.transform, (t.emission, t.two_sided));
+            add(ctx, obj, shape, scene)?;
+        }
+        for (i, q) in group.quad.iter().enumerate() {
+            let obj = Object::new("quad", i, &q.name, &q.material, &q.transform, (q.emission, q.two_sided));
+            add(ctx, obj, quad_mesh(q.vertices.map(Vec3::from)), scene)?;
         }
         for (i, m) in group.mesh.iter().enumerate() {
             let what = describe(label, "mesh", i, &m.name);
@@ -337,7 +467,7 @@ impl SceneFile {
                 }
                 _ => Primitive::new(Shape::Mesh(mesh), t, resolve(ctx, &what, m.material.as_deref(), at)?),
             };
-            scene.add(primitive);
+            self.place(scene, primitive, (m.emission, m.two_sided), &what, at)?;
         }
         for (i, g) in group.group.iter().enumerate() {
             let child_label = describe(label, "group", i, &g.name);
@@ -369,6 +499,27 @@ impl SceneFile {
             result?;
         }
         Ok(())
+    }
+
+    /// Add a primitive to the scene, as an area light when it emits.
+    fn place(
+        &self,
+        scene: &mut Scene,
+        primitive: Primitive,
+        (emission, two_sided): (Option<Rgb>, bool),
+        what: &str,
+        at: Option<SourceLocation>,
+    ) -> Result<(), SceneError> {
+        match emission {
+            Some(radiance) => scene
+                .add_emissive(primitive, radiance.into(), two_sided)
+                .map_err(|e| self.error(find_key(&self.source, "emission", 0).or(at), format!("{what}: {e}"))),
+            None if two_sided => Err(self.error(at, format!("{what}: `two_sided` applies only with `emission`"))),
+            None => {
+                scene.add(primitive);
+                Ok(())
+            }
+        }
     }
 
     fn material_id(&self, ctx: &BuildContext, what: &str, name: &str) -> Result<MaterialId, SceneError> {
@@ -491,6 +642,40 @@ struct Place<'a> {
     forced_material: Option<&'a str>,
 }
 
+/// The keys every object kind shares, for [`SceneFile::add_group`].
+struct Object<'a> {
+    kind: &'static str,
+    index: usize,
+    name: &'a Option<String>,
+    material: &'a Option<String>,
+    transform: &'a [TransformOp],
+    emission: (Option<Rgb>, bool),
+}
+
+impl<'a> Object<'a> {
+    fn new(
+        kind: &'static str,
+        index: usize,
+        name: &'a Option<String>,
+        material: &'a Option<String>,
+        transform: &'a [TransformOp],
+        emission: (Option<Rgb>, bool),
+    ) -> Self {
+        Self { kind, index, name, material, transform, emission }
+    }
+}
+
+/// A quad as a two-triangle mesh, (v0, v1, v2) and (v0, v2, v3): one BVH
+/// and watertight intersection along the shared diagonal.
+fn quad_mesh(v: [Vec3; 4]) -> Result<Shape, crate::shapes::ShapeError> {
+    let data =
+        crate::mesh::TriangleMesh { positions: v.to_vec(), indices: vec![[0, 1, 2], [0, 2, 3]], ..Default::default() };
+    for tri in &data.indices {
+        Triangle::new(tri.map(|i| v[i as usize]), None)?;
+    }
+    Ok(Shape::Mesh(Arc::new(Mesh::new(data)?)))
+}
+
 /// A mesh ready to place, with the scene materials of the file's own
 /// materials (by mesh-local index), if it has any.
 type LoadedMesh = (Arc<Mesh>, Option<Arc<[MaterialId]>>);
@@ -515,6 +700,32 @@ fn material_from_file(m: &crate::mesh::MeshMaterial) -> Material {
     let material =
         if ks > 0.0 { Material::phong(kd, 1.0, ks, m.shininess.max(1.0), 0.0) } else { Material::matte(kd, 1.0) };
     material.unwrap_or_else(|_| Material::matte(Color::splat(0.8), 1.0).expect("valid constants"))
+}
+
+/// Albedos above 1 would create energy under the path integrator.
+fn check_albedo(t: &Texture) -> Result<(), String> {
+    let colors = match t {
+        Texture::Constant(c) => vec![*c],
+        Texture::Checker { even, odd, .. } => vec![*even, *odd],
+    };
+    match colors.iter().find(|c| c.max_element() > 1.0) {
+        Some(c) => Err(format!("albedo must be at most 1 in every channel (a surface cannot reflect more light than it receives), got [{}, {}, {}]", c.x, c.y, c.z)),
+        None => Ok(()),
+    }
+}
+
+/// Complex indices of refraction of the named metals at 650, 550 and
+/// 450 nm (red, green, blue), from the measurements tabulated at
+/// refractiveindex.info: Johnson & Christy 1972 (gold, silver, copper) and
+/// Rakić 1995 (aluminium).
+fn metal_ior(metal: MetalDesc) -> (Color, Color) {
+    let (eta, k) = match metal {
+        MetalDesc::Gold => ([0.166, 0.424, 1.316], [3.150, 2.380, 1.863]),
+        MetalDesc::Silver => ([0.144, 0.120, 0.135], [4.243, 3.341, 2.484]),
+        MetalDesc::Copper => ([0.214, 0.967, 1.158], [3.670, 2.578, 2.398]),
+        MetalDesc::Aluminium => ([1.490, 0.958, 0.618], [7.821, 6.690, 5.471]),
+    };
+    (Color::from_array(eta), Color::from_array(k))
 }
 
 fn falloff(f: Option<FalloffDesc>, default: Falloff) -> Falloff {

@@ -28,10 +28,12 @@ use crate::accel::{Aggregate, BvhAggregate};
 use crate::camera::Camera;
 use crate::color::Color;
 use crate::geometry::Ray;
+use crate::geometry::{Bounds3, Transform};
 use crate::interaction::SurfaceInteraction;
-use crate::light::Light;
+use crate::light::{AreaLight, AreaShape, Emitter, Environment, Light, LightSet};
 use crate::material::Material;
 use crate::render::RenderSettings;
+use crate::shapes::Shape;
 use std::sync::OnceLock;
 
 /// Index of a material in its [`Scene`]; only [`Scene::add_material`] makes
@@ -46,6 +48,39 @@ impl MaterialId {
     }
 }
 
+/// Why a primitive cannot be an area light.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum EmissionError {
+    /// A plane has infinite area.
+    #[error("an infinite plane cannot emit light (use a quad or a large triangle)")]
+    Plane,
+    /// Only spheres that stay spheres can be sampled as lights.
+    #[error(
+        "an emissive sphere must stay a sphere: its transform may translate, rotate and scale uniformly, but not stretch it into an ellipsoid"
+    )]
+    Ellipsoid,
+    /// Negative or non-finite radiance.
+    #[error("emitted radiance must be finite and ≥ 0 in every channel")]
+    Radiance,
+    /// More than 2³² light triangles.
+    #[error("too many emissive triangles (at most 4294967295)")]
+    TooMany,
+}
+
+/// The uniform scale factor of a transform that is a similarity (rotation,
+/// uniform scale, translation), or `None`.
+fn uniform_scale(t: &Transform) -> Option<f32> {
+    let m = t.matrix();
+    let cols = [m.x_axis.truncate(), m.y_axis.truncate(), m.z_axis.truncate()];
+    let s = cols[0].length();
+    let tol = 1e-4 * s;
+    let similar = cols.iter().all(|c| (c.length() - s).abs() <= tol)
+        && cols[0].dot(cols[1]).abs() <= tol * s
+        && cols[0].dot(cols[2]).abs() <= tol * s
+        && cols[1].dot(cols[2]).abs() <= tol * s;
+    similar.then_some(s)
+}
+
 /// Everything needed to render an image: camera, settings, materials, lights
 /// and geometry.
 #[derive(Clone, Debug)]
@@ -57,10 +92,14 @@ pub struct Scene {
     /// Ambient light: every surface reflects `ka · colour · ambient`.
     pub ambient: Color,
     lights: Vec<Light>,
+    area_lights: Vec<AreaLight>,
+    environment: Option<Environment>,
     materials: Vec<Material>,
     primitives: Vec<Primitive>,
     /// Built on first use, after the last [`Scene::add`].
     aggregate: OnceLock<BvhAggregate>,
+    /// All lights with their sampling distribution, built on first use.
+    light_set: OnceLock<LightSet>,
     /// Non-fatal problems found while loading (e.g. skipped degenerate
     /// triangles), for the user.
     pub warnings: Vec<String>,
@@ -74,9 +113,12 @@ impl Scene {
             settings: RenderSettings::default(),
             ambient: Color::ZERO,
             lights: Vec::new(),
+            area_lights: Vec::new(),
+            environment: None,
             materials: Vec::new(),
             primitives: Vec::new(),
             aggregate: OnceLock::new(),
+            light_set: OnceLock::new(),
             warnings: Vec::new(),
         }
     }
@@ -92,16 +134,116 @@ impl Scene {
         assert!(primitive.material().index() < self.materials.len(), "material handle from another scene");
         self.primitives.push(primitive);
         self.aggregate = OnceLock::new();
+        self.light_set = OnceLock::new();
+    }
+
+    /// Add a primitive whose surface emits `radiance` (a diffuse area
+    /// light): from its front side only (a triangle's normal side, a
+    /// sphere's outside), or from both when `two_sided`. Every triangle of
+    /// a mesh becomes its own light.
+    ///
+    /// Planes cannot emit (they have no finite area), nor can spheres
+    /// stretched into ellipsoids.
+    pub fn add_emissive(
+        &mut self,
+        primitive: Primitive,
+        radiance: Color,
+        two_sided: bool,
+    ) -> Result<(), EmissionError> {
+        if !(radiance.is_finite() && radiance.min_element() >= 0.0) {
+            return Err(EmissionError::Radiance);
+        }
+        let t = primitive.transform();
+        let first = self.area_lights.len();
+        let light = |shape| AreaLight { shape, radiance, two_sided };
+        match primitive.shape() {
+            Shape::Plane(_) => return Err(EmissionError::Plane),
+            Shape::Sphere(s) => {
+                let scale = uniform_scale(&t).ok_or(EmissionError::Ellipsoid)?;
+                let shape = AreaShape::Sphere { center: t.point(s.center()), radius: s.radius() * scale };
+                self.area_lights.push(light(shape));
+            }
+            Shape::Triangle(tri) => {
+                self.area_lights.push(light(AreaShape::Triangle(tri.vertices().map(|p| t.point(p)))))
+            }
+            Shape::Mesh(mesh) => {
+                self.area_lights.reserve(mesh.triangle_count());
+                for i in 0..mesh.triangle_count() {
+                    self.area_lights.push(light(AreaShape::Triangle(mesh.triangle(i).map(|p| t.point(p)))));
+                }
+            }
+        }
+        let first = u32::try_from(first).map_err(|_| EmissionError::TooMany)?;
+        u32::try_from(self.area_lights.len()).map_err(|_| EmissionError::TooMany)?;
+        self.add(primitive.with_area_light(first));
+        Ok(())
     }
 
     /// Add a light.
     pub fn add_light(&mut self, light: Light) {
         self.lights.push(light);
+        self.light_set = OnceLock::new();
     }
 
-    /// The lights.
+    /// The point, spot and directional lights.
     pub fn lights(&self) -> &[Light] {
         &self.lights
+    }
+
+    /// The emissive surfaces, one light per sphere or triangle.
+    pub fn area_lights(&self) -> &[AreaLight] {
+        &self.area_lights
+    }
+
+    /// Light arriving from infinitely far away, for the path integrator.
+    /// Without one, rays that leave the scene see the background colour of
+    /// the render settings, which then acts as a constant environment.
+    pub fn environment(&self) -> Option<&Environment> {
+        self.environment.as_ref()
+    }
+
+    /// Set the environment light.
+    pub fn set_environment(&mut self, environment: Option<Environment>) {
+        self.environment = environment;
+        self.light_set = OnceLock::new();
+    }
+
+    /// Every light of the path integrator, built on first use: the area
+    /// lights first (so that area light `i` is emitter `i`), then the point,
+    /// spot and directional lights, then the environment (or the
+    /// background colour, if not black) last.
+    pub fn light_set(&self) -> &LightSet {
+        self.light_set.get_or_init(|| {
+            let mut emitters: Vec<Emitter> = self.area_lights.iter().map(|&a| Emitter::Area(a)).collect();
+            emitters.extend(self.lights.iter().cloned().map(Emitter::Delta));
+            match &self.environment {
+                Some(env) => emitters.push(Emitter::Environment(env.clone())),
+                None if self.settings.background.max_element() > 0.0 => {
+                    emitters.push(Emitter::Environment(Environment::Constant(self.settings.background)))
+                }
+                None => {}
+            }
+            LightSet::new(emitters, &self.bounds())
+        })
+    }
+
+    /// The environment emitter of [`Scene::light_set`] and its index, if
+    /// the scene has one (the environment, or a non-black background).
+    pub fn environment_light(&self) -> Option<(usize, &Environment)> {
+        let emitters = self.light_set().emitters();
+        match emitters.last() {
+            Some(Emitter::Environment(env)) => Some((emitters.len() - 1, env)),
+            _ => None,
+        }
+    }
+
+    /// Bounds of everything finite in the scene (planes excluded).
+    pub fn bounds(&self) -> Bounds3 {
+        self.primitives
+            .iter()
+            .map(Primitive::bounds)
+            .filter(|b| !b.is_infinite())
+            .fold(Bounds3::EMPTY, |a, b| a.union(&b))
     }
 
     /// The material behind a handle.

@@ -16,13 +16,16 @@ pub struct Primitive {
     /// For meshes with their own materials: scene material of each
     /// mesh-local material index.
     face_materials: Option<Arc<[MaterialId]>>,
+    /// For emissive primitives: the index of the area light of face 0 in
+    /// the scene's area lights (face `i` is `first + i`).
+    area_light: Option<u32>,
 }
 
 impl Primitive {
     /// Place `shape` in the world with `transform` (object to world).
     pub fn new(shape: impl Into<Shape>, transform: Transform, material: MaterialId) -> Self {
         let transform = (!transform.is_identity()).then_some(transform);
-        Self { shape: shape.into(), transform, material, face_materials: None }
+        Self { shape: shape.into(), transform, material, face_materials: None, area_light: None }
     }
 
     /// Give a mesh's faces the materials its file assigns them:
@@ -31,6 +34,18 @@ impl Primitive {
     pub fn with_face_materials(mut self, table: Arc<[MaterialId]>) -> Self {
         self.face_materials = Some(table);
         self
+    }
+
+    /// Mark the primitive as emissive: face `i` belongs to area light
+    /// `first + i` (see [`crate::scene::Scene::add_emissive`]).
+    pub(crate) fn with_area_light(mut self, first: u32) -> Self {
+        self.area_light = Some(first);
+        self
+    }
+
+    /// The index of the first of the primitive's area lights, if it emits.
+    pub fn area_light(&self) -> Option<u32> {
+        self.area_light
     }
 
     #[inline]
@@ -85,7 +100,16 @@ impl Primitive {
                 (p, err, n, ns)
             }
         };
-        Some(SurfaceInteraction { t: hit.t, p, p_error, n, ns, uv: hit.uv, material: self.material_at(hit.face) })
+        Some(SurfaceInteraction {
+            t: hit.t,
+            p,
+            p_error,
+            n,
+            ns,
+            uv: hit.uv,
+            material: self.material_at(hit.face),
+            light: self.area_light.map(|first| first + hit.face),
+        })
     }
 
     /// Whether any hit with `0 < t < t_max` exists.

@@ -64,6 +64,11 @@ impl Mesh {
         self.degenerate
     }
 
+    /// The corners of triangle `i`, in object space.
+    pub fn triangle(&self, i: usize) -> [Vec3; 3] {
+        self.indices[i].map(|v| self.positions[v as usize])
+    }
+
     /// The mesh-local material index of a face, if the mesh assigns them.
     pub fn material_of(&self, face: u32) -> Option<u32> {
         self.material_ids.as_ref().map(|m| m[face as usize])

@@ -1,10 +1,17 @@
-//! The parallel render loop.
+//! The parallel render loops: [`render`] for the classic integrator (all
+//! samples of a pixel at once), [`render_progressive`] for the path tracer
+//! (passes of samples into an [`Accumulator`], with time budgets,
+//! checkpoints and resumption).
+
+mod progressive;
+
+pub use progressive::{render_progressive, PassCallback, PassInfo, ProgressiveOptions, ProgressiveOutput};
 
 use crate::color::Color;
-use crate::film::{check_image_size, Film, FilmError, ToneMap};
+use crate::film::{check_image_size, Film, FilmError, Filter, ToneMap};
 use crate::geometry::Vec2;
 use crate::integrator::{Integrator, RayStats, WhittedIntegrator};
-use crate::sampling::PixelSampler;
+use crate::sampling::{PixelSampler, SamplerKind};
 use crate::scene::Scene;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -26,11 +33,37 @@ pub struct RenderSettings {
     pub srgb: bool,
     /// Seed of all random sampling decisions.
     pub seed: u64,
+    /// Which light transport algorithm renders the scene.
+    pub integrator: IntegratorKind,
+    /// Sample sequence of the path integrator.
+    pub sampler: SamplerKind,
+    /// Pixel reconstruction filter of the path integrator.
+    pub filter: Filter,
+}
+
+/// The light transport algorithms.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum IntegratorKind {
+    /// Classic ray tracing ([`crate::integrator::WhittedIntegrator`]).
+    #[default]
+    Whitted,
+    /// Path tracing ([`crate::integrator::PathIntegrator`]).
+    Path,
 }
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        Self { spp: 16, max_depth: 5, background: Color::ZERO, tone_map: ToneMap::Classic, srgb: true, seed: 0 }
+        Self {
+            spp: 16,
+            max_depth: 5,
+            background: Color::ZERO,
+            tone_map: ToneMap::Classic,
+            srgb: true,
+            seed: 0,
+            integrator: IntegratorKind::Whitted,
+            sampler: SamplerKind::Sobol,
+            filter: Filter::default(),
+        }
     }
 }
 
@@ -71,19 +104,52 @@ pub enum RenderError {
     /// Zero samples per pixel.
     #[error("samples per pixel must be at least 1")]
     NoSamples,
+    /// A pass callback (e.g. writing a checkpoint) failed.
+    #[error("{0}")]
+    Callback(String),
+    /// The accumulator does not match the image size.
+    #[error("the accumulated film is {0}×{1} but the image is {2}×{3}")]
+    AccumulatorSize(u32, u32, u32, u32),
     /// The worker pool could not start.
     #[error("cannot start {0} worker threads: {1}")]
     Threads(usize, String),
 }
 
-/// Render `scene` with the Whitted integrator.
+/// Render `scene` with the integrator its settings name, all samples in
+/// one go.
 ///
-/// Each pixel's samples come from a generator seeded by the scene seed and
-/// the pixel's coordinates, so the image is bit-identical whatever the
-/// number of threads.
+/// With the Whitted integrator, each pixel's samples come from a generator
+/// seeded by the scene seed and the pixel's coordinates; with the path
+/// tracer, from the pixel's own sample sequence (see
+/// [`render_progressive`]). Either way the image is bit-identical whatever
+/// the number of threads.
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderOutput, RenderError> {
-    let integrator = WhittedIntegrator { max_depth: scene.settings.max_depth };
-    render_with(scene, &integrator, options)
+    match scene.settings.integrator {
+        IntegratorKind::Whitted => {
+            let integrator = WhittedIntegrator { max_depth: scene.settings.max_depth };
+            render_with(scene, &integrator, options)
+        }
+        IntegratorKind::Path => {
+            let (w, h) = (scene.camera.width(), scene.camera.height());
+            let mut acc = crate::film::Accumulator::new(w, h)?;
+            let rows = |fraction: f64| {
+                if let Some(progress) = options.progress {
+                    progress((fraction * h as f64) as usize, h as usize);
+                }
+            };
+            let out = render_progressive(
+                scene,
+                &mut acc,
+                ProgressiveOptions {
+                    threads: options.threads,
+                    spp: scene.settings.spp,
+                    progress: Some(&rows),
+                    ..Default::default()
+                },
+            )?;
+            Ok(RenderOutput { film: acc.to_film(), stats: out.stats, elapsed: out.elapsed })
+        }
+    }
 }
 
 /// Render `scene` with a given integrator.

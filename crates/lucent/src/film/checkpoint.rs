@@ -1,0 +1,148 @@
+//! Checkpoints: the state of a progressive render on disk, so that an
+//! interrupted render can be resumed, or a finished one given more samples,
+//! ending bit-identical to the same render done in one go.
+//!
+//! The file is little-endian binary:
+//!
+//! | bytes | content |
+//! |---|---|
+//! | 8 | magic `LUCENTCK` |
+//! | 4 | format version (1) |
+//! | 4, 4 | width, height |
+//! | 4 | samples per pixel done |
+//! | 8 | fingerprint of everything that determines the samples |
+//! | 16 per pixel | `Σw·r, Σw·g, Σw·b, Σw` as f32 |
+//!
+//! It is written to a temporary file beside the target and renamed into
+//! place, so a crash never leaves a truncated checkpoint.
+
+use super::{check_image_size, Accumulator};
+use std::io::{Read, Write};
+use std::path::Path;
+
+const MAGIC: &[u8; 8] = b"LUCENTCK";
+const VERSION: u32 = 1;
+const HEADER: usize = 8 + 4 + 4 + 4 + 4 + 8;
+
+/// Why a checkpoint cannot be written or used.
+#[derive(Debug, thiserror::Error)]
+pub enum CheckpointError {
+    /// Reading or writing failed.
+    #[error("checkpoint {path}: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
+    /// Not a checkpoint, or damaged.
+    #[error("checkpoint {path}: {message}")]
+    Invalid {
+        /// The file.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The checkpoint belongs to another render.
+    #[error(
+        "checkpoint {path} was made by a different render (scene file, image size, seed, sampler, filter, integrator or depth differ); delete it or render without --resume"
+    )]
+    Mismatch {
+        /// The file.
+        path: String,
+    },
+}
+
+/// Write `acc` with its `fingerprint` to `path`, atomically.
+pub fn save_checkpoint(path: &Path, acc: &Accumulator, fingerprint: u64) -> Result<(), CheckpointError> {
+    let io = |e: std::io::Error| CheckpointError::Io { path: path.display().to_string(), message: e.to_string() };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut tmp = tempfile::Builder::new().prefix(".lucent-").suffix(".tmp").tempfile_in(dir).map_err(io)?;
+    {
+        let mut w = std::io::BufWriter::new(tmp.as_file_mut());
+        w.write_all(MAGIC).map_err(io)?;
+        for v in [VERSION, acc.width(), acc.height(), acc.spp()] {
+            w.write_all(&v.to_le_bytes()).map_err(io)?;
+        }
+        w.write_all(&fingerprint.to_le_bytes()).map_err(io)?;
+        for s in acc.sums() {
+            for v in s {
+                w.write_all(&v.to_le_bytes()).map_err(io)?;
+            }
+        }
+        w.flush().map_err(io)?;
+    }
+    tmp.as_file().sync_all().map_err(io)?;
+    tmp.persist(path).map_err(|e| io(e.error))?;
+    Ok(())
+}
+
+/// Read a checkpoint, checking that it belongs to the render with
+/// `fingerprint` and size `width × height`.
+pub fn load_checkpoint(path: &Path, fingerprint: u64, width: u32, height: u32) -> Result<Accumulator, CheckpointError> {
+    let name = path.display().to_string();
+    let invalid = |m: &str| CheckpointError::Invalid { path: name.clone(), message: m.to_owned() };
+    let mut f = std::fs::File::open(path).map_err(|e| CheckpointError::Io {
+        path: name.clone(),
+        message: format!("cannot open it: {}", e.kind().to_string().to_lowercase()),
+    })?;
+    let mut header = [0u8; HEADER];
+    f.read_exact(&mut header).map_err(|_| invalid("too short to be a lucent checkpoint"))?;
+    if &header[..8] != MAGIC {
+        return Err(invalid("not a lucent checkpoint (wrong magic bytes)"));
+    }
+    let u32_at = |i: usize| u32::from_le_bytes(header[i..i + 4].try_into().unwrap());
+    let version = u32_at(8);
+    if version != VERSION {
+        return Err(invalid(&format!("format version {version} is not supported (this lucent reads {VERSION})")));
+    }
+    let (w, h, spp) = (u32_at(12), u32_at(16), u32_at(20));
+    let stored = u64::from_le_bytes(header[24..32].try_into().unwrap());
+    if stored != fingerprint || w != width || h != height {
+        return Err(CheckpointError::Mismatch { path: name });
+    }
+    check_image_size(w, h).map_err(|e| invalid(&e.to_string()))?;
+    let n = w as usize * h as usize;
+    let expected = (n * 16) as u64;
+    let actual = f.metadata().map(|m| m.len()).unwrap_or(0).saturating_sub(HEADER as u64);
+    if actual != expected {
+        return Err(invalid(&format!("truncated or padded: {actual} bytes of pixel data, expected {expected}")));
+    }
+    let mut bytes = vec![0u8; n * 16];
+    f.read_exact(&mut bytes).map_err(|_| invalid("truncated pixel data"))?;
+    let sums = bytes
+        .chunks_exact(16)
+        .map(|c| std::array::from_fn(|i| f32::from_le_bytes(c[i * 4..i * 4 + 4].try_into().unwrap())))
+        .collect();
+    Accumulator::from_parts(w, h, spp, sums).map_err(|e| invalid(&e.to_string()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip_and_refusals() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.ckpt");
+        let mut acc = Accumulator::new(3, 2).unwrap();
+        acc.sums_mut()[4] = [1.5, -0.0, f32::MAX, 7.0];
+        acc.add_spp(9);
+        save_checkpoint(&path, &acc, 42).unwrap();
+        assert_eq!(load_checkpoint(&path, 42, 3, 2).unwrap(), acc);
+        assert!(matches!(load_checkpoint(&path, 43, 3, 2), Err(CheckpointError::Mismatch { .. })));
+        assert!(matches!(load_checkpoint(&path, 42, 2, 3), Err(CheckpointError::Mismatch { .. })));
+        let bytes = std::fs::read(&path).unwrap();
+        std::fs::write(&path, &bytes[..bytes.len() - 1]).unwrap();
+        assert!(load_checkpoint(&path, 42, 3, 2).unwrap_err().to_string().contains("truncated"));
+        std::fs::write(&path, b"PNG....").unwrap();
+        assert!(load_checkpoint(&path, 42, 3, 2).unwrap_err().to_string().contains("too short"));
+        assert!(load_checkpoint(&dir.path().join("missing"), 42, 3, 2)
+            .unwrap_err()
+            .to_string()
+            .contains("cannot open"));
+    }
+}

@@ -1,0 +1,201 @@
+use super::RayStats;
+use crate::bsdf::Bsdf;
+use crate::color::Color;
+use crate::geometry::Ray;
+use crate::interaction::SurfaceInteraction;
+use crate::light::{Emitter, LightSampleContext};
+use crate::sampling::PathSampler;
+use crate::scene::Scene;
+
+/// Unidirectional path tracing with next-event estimation and multiple
+/// importance sampling (Veach & Guibas, "Optimally Combining Sampling
+/// Techniques for Monte Carlo Rendering", SIGGRAPH 1995; the structure of
+/// PBRT 4th ed. §13.4, `PathIntegrator`).
+///
+/// At every non-specular vertex one light is chosen in proportion to its
+/// power and sampled (next-event estimation), and the BSDF is sampled to
+/// continue the path. Light reaching the path by either technique is
+/// weighted with the power heuristic (β = 2), so each contribution is
+/// counted once:
+///
+/// `w_light = p_light² / (p_light² + p_bsdf²)`, and symmetrically,
+///
+/// where both pdfs are per unit solid angle and `p_light` includes the
+/// probability of choosing the light. Delta lights (point, spot,
+/// directional) and delta BSDF lobes (mirror, smooth glass) can only be
+/// reached by one technique and get weight 1.
+///
+/// Russian roulette (Arvo & Kirk 1990) ends paths from the third vertex on
+/// with probability `1 - max(β·η²)` when that is positive, where `η²`
+/// undoes the radiance scaling of refraction (PBRT 4th ed. §13.4.4), so
+/// that the estimate stays unbiased while dim paths stop early.
+///
+/// Sample dimensions are consumed in a fixed pattern per vertex (light
+/// choice, light position, lobe choice, direction, roulette), so that a
+/// low-discrepancy sampler stays well stratified along the path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PathIntegrator {
+    /// Most scattering events along a path (1: direct light only).
+    pub max_depth: u32,
+}
+
+/// The power heuristic with β = 2 for one sample of each of two
+/// techniques.
+#[inline]
+pub fn power_heuristic(pdf_f: f32, pdf_g: f32) -> f32 {
+    let (f, g) = (pdf_f * pdf_f, pdf_g * pdf_g);
+    if f.is_infinite() {
+        return 1.0;
+    }
+    if f + g == 0.0 {
+        0.0
+    } else {
+        f / (f + g)
+    }
+}
+
+impl PathIntegrator {
+    /// Radiance arriving along the camera ray `camera_ray`, one path sample.
+    pub fn li(&self, scene: &Scene, camera_ray: &Ray, sampler: &mut PathSampler, stats: &mut RayStats) -> Color {
+        let lights = scene.light_set();
+        let mut radiance = Color::ZERO;
+        // Path throughput: product of f·|cos θ|/pdf along the path so far.
+        let mut beta = Color::ONE;
+        // Accumulated η² of refractions, for Russian roulette.
+        let mut eta_scale = 1.0f32;
+        // Whether the last bounce was from a delta lobe (no MIS possible),
+        // and the BSDF pdf and point of the last bounce, for MIS.
+        let mut specular_bounce = false;
+        let mut prev_pdf = 0.0f32;
+        let mut prev_ctx = LightSampleContext { p: camera_ray.origin, n: crate::geometry::Vec3::ZERO };
+        let mut ray = Ray::new(camera_ray.origin, camera_ray.dir.normalize());
+        stats.camera += 1;
+        let mut depth = 0u32;
+        loop {
+            let Some(si) = scene.intersect(&ray, f32::INFINITY) else {
+                // The ray leaves the scene: environment light.
+                if let Some((index, env)) = scene.environment_light() {
+                    let le = env.le(ray.dir);
+                    if depth == 0 || specular_bounce {
+                        radiance += beta * le;
+                    } else {
+                        let p_light = lights.pmf(index)
+                            * lights.emitters()[index].pdf_li(&prev_ctx, ray.dir, ray.origin, ray.dir);
+                        radiance += beta * le * power_heuristic(prev_pdf, p_light);
+                    }
+                }
+                break;
+            };
+            let wo = -ray.dir;
+
+            // Light emitted by the surface hit.
+            if let Some(index) = si.light {
+                let index = index as usize;
+                if let Emitter::Area(area) = &lights.emitters()[index] {
+                    let le = area.l(si.n, wo);
+                    if le.max_element() > 0.0 {
+                        if depth == 0 || specular_bounce {
+                            radiance += beta * le;
+                        } else {
+                            let p_light =
+                                lights.pmf(index) * lights.emitters()[index].pdf_li(&prev_ctx, ray.dir, si.p, si.n);
+                            radiance += beta * le * power_heuristic(prev_pdf, p_light);
+                        }
+                    }
+                }
+            }
+            if depth >= self.max_depth {
+                break;
+            }
+
+            let bsdf = Bsdf::new(si.ns, scene.material(si.material).bxdf(si.uv));
+            let ctx = LightSampleContext { p: si.p, n: si.n };
+
+            // Next-event estimation. The dimensions are drawn even when
+            // unused, to keep the pattern fixed.
+            let u_light = sampler.get_1d();
+            let u_point = sampler.get_2d();
+            if !bsdf.is_specular() {
+                radiance += beta * self.sample_light(scene, &si, &bsdf, wo, u_light, u_point, stats);
+            }
+
+            // Continue the path by sampling the BSDF.
+            let u_lobe = sampler.get_1d();
+            let u_dir = sampler.get_2d();
+            let u_rr = sampler.get_1d();
+            let Some(bs) = bsdf.sample_f(wo, u_lobe, u_dir) else { break };
+            if bs.pdf <= 0.0 || bs.f.max_element() <= 0.0 {
+                break;
+            }
+            beta *= bs.f * (bs.wi.dot(si.ns).abs() / bs.pdf);
+            if !beta.is_finite() {
+                break;
+            }
+            specular_bounce = bs.specular;
+            prev_pdf = bs.pdf;
+            prev_ctx = ctx;
+            if bs.transmission {
+                eta_scale *= bs.eta * bs.eta;
+            }
+            ray = si.spawn_ray(bs.wi);
+            stats.secondary += 1;
+
+            // Russian roulette.
+            let rr_beta = (beta * eta_scale).max_element();
+            if rr_beta < 1.0 && depth >= 1 {
+                let q = (1.0 - rr_beta).max(0.0);
+                if u_rr < q {
+                    break;
+                }
+                beta /= 1.0 - q;
+            }
+            depth += 1;
+        }
+        radiance
+    }
+
+    /// One light sample at `si`, MIS-weighted against BSDF sampling; the
+    /// result still has to be multiplied by the path throughput.
+    #[allow(clippy::too_many_arguments)]
+    fn sample_light(
+        &self,
+        scene: &Scene,
+        si: &SurfaceInteraction,
+        bsdf: &Bsdf,
+        wo: crate::geometry::Vec3,
+        u_light: f32,
+        u_point: crate::geometry::Vec2,
+        stats: &mut RayStats,
+    ) -> Color {
+        let lights = scene.light_set();
+        let Some((index, pmf)) = lights.sample(u_light) else { return Color::ZERO };
+        let emitter = &lights.emitters()[index];
+        let ctx = LightSampleContext { p: si.p, n: si.n };
+        let Some(ls) = emitter.sample_li(&ctx, u_point) else { return Color::ZERO };
+        if ls.pdf <= 0.0 || ls.l.max_element() <= 0.0 {
+            return Color::ZERO;
+        }
+        let f = bsdf.f(wo, ls.wi) * ls.wi.dot(si.ns).abs();
+        if f.max_element() <= 0.0 {
+            return Color::ZERO;
+        }
+        stats.shadow += 1;
+        let occluded = match ls.p_light {
+            Some(p) => {
+                let (shadow_ray, t_max) = si.spawn_ray_to(p);
+                scene.intersect_p(&shadow_ray, t_max)
+            }
+            None => scene.intersect_p(&si.spawn_ray(ls.wi), f32::INFINITY),
+        };
+        if occluded {
+            return Color::ZERO;
+        }
+        let p_light = pmf * ls.pdf;
+        if emitter.is_delta() {
+            f * ls.l / p_light
+        } else {
+            let w = power_heuristic(p_light, bsdf.pdf(wo, ls.wi));
+            f * ls.l * (w / p_light)
+        }
+    }
+}

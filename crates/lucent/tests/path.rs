@@ -1,0 +1,242 @@
+//! The path integrator against analytic answers: furnace tests (energy
+//! conservation and Russian roulette without bias), direct light from area
+//! lights, emitters seen directly, and determinism across threads and
+//! interrupted renders.
+
+use lucent::film::Accumulator;
+use lucent::prelude::*;
+use lucent::render::{render_progressive, ProgressiveOptions};
+
+fn scene(body: &str) -> Scene {
+    parse_scene(body, SceneFormat::Toml).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Mean of every channel of every pixel, and the largest deviation of a
+/// pixel's channel from `expected`.
+fn stats(film: &Film, expected: f32) -> (f64, f32) {
+    let mut sum = 0.0f64;
+    let mut worst = 0.0f32;
+    for c in film.pixels() {
+        for v in c.to_array() {
+            sum += v as f64;
+            worst = worst.max((v - expected).abs());
+        }
+    }
+    (sum / (film.pixels().len() * 3) as f64, worst)
+}
+
+fn render_path(s: &Scene) -> Film {
+    render(s, &RenderOptions::default()).unwrap().film
+}
+
+/// A sphere of albedo 1 under a uniform environment of radiance 1
+/// disappears: every pixel is 1 (PBRT's and Mitsuba's "white furnace").
+/// Paths only end by escaping, so this also checks that nothing is lost or
+/// double counted between light sampling and BSDF sampling (MIS).
+#[test]
+fn white_furnace_diffuse_sphere_vanishes() {
+    let s = scene(
+        r#"
+        [camera]
+        eye = [0, 0, -4]
+        look_at = [0, 0, 0]
+        fov = 40
+        [render]
+        integrator = "path"
+        width = 32
+        height = 32
+        spp = 64
+        max_depth = 10000
+        [environment]
+        color = [1, 1, 1]
+        [materials.white.diffuse]
+        color = [1, 1, 1]
+        [[sphere]]
+        radius = 1
+        material = "white"
+    "#,
+    );
+    let (mean, worst) = stats(&render_path(&s), 1.0);
+    assert!((mean - 1.0).abs() < 2e-3, "image mean {mean}");
+    assert!(worst < 0.05, "a pixel is {worst} away from 1");
+}
+
+/// Inside a closed sphere whose wall emits Le and reflects with albedo ρ,
+/// radiance is the same everywhere and obeys L = Le + ρ·L, so
+/// L = Le / (1 − ρ): 1 for Le = ρ = 0.5. The path never escapes; only
+/// Russian roulette ends it, and the answer is right only if roulette is
+/// unbiased at unlimited depth.
+#[test]
+fn closed_emissive_sphere_converges_to_le_over_one_minus_albedo() {
+    let s = scene(
+        r#"
+        [camera]
+        eye = [0, 0, 0]
+        look_at = [0, 0, 1]
+        fov = 90
+        [render]
+        integrator = "path"
+        width = 24
+        height = 24
+        spp = 256
+        max_depth = 10000
+        [materials.wall.diffuse]
+        color = [0.5, 0.5, 0.5]
+        [[sphere]]
+        radius = 3
+        material = "wall"
+        emission = [0.5, 0.5, 0.5]
+        two_sided = true
+    "#,
+    );
+    let (mean, worst) = stats(&render_path(&s), 1.0);
+    assert!((mean - 1.0).abs() < 5e-3, "image mean {mean}");
+    assert!(worst < 0.1, "a pixel is {worst} away from 1");
+}
+
+/// Direct light from a spherical emitter of radiance L and radius r, whose
+/// centre is at distance d straight above a diffuse point of albedo ρ:
+/// the irradiance is E = π·L·(r/d)² and the reflected radiance ρ·L·(r/d)².
+/// With max_depth 1 only direct light counts.
+#[test]
+fn sphere_light_direct_illumination_is_analytic() {
+    let s = scene(
+        r#"
+        [camera]
+        eye = [0.001, 0.5, -3]
+        look_at = [0, 0, 0]
+        fov = 0.2
+        [render]
+        integrator = "path"
+        width = 4
+        height = 4
+        spp = 1024
+        max_depth = 1
+        [materials.grey.diffuse]
+        color = [0.5, 0.5, 0.5]
+        [materials.black.diffuse]
+        color = [0, 0, 0]
+        [[quad]]
+        material = "grey"
+        vertices = [[-10, 0, -10], [-10, 0, 10], [10, 0, 10], [10, 0, -10]]
+        [[sphere]]
+        center = [0, 2, 0]
+        radius = 0.5
+        material = "black"
+        emission = [4, 4, 4]
+    "#,
+    );
+    let expected = 0.5 * 4.0 * (0.5f32 / 2.0).powi(2);
+    let (mean, _) = stats(&render_path(&s), expected);
+    assert!((mean as f32 - expected).abs() < 0.01 * expected, "mean {mean}, expected {expected}");
+}
+
+/// An emitter seen directly shows its radiance from the front and nothing
+/// from the back (one-sided), or its radiance from both sides when
+/// two-sided.
+#[test]
+fn emitters_seen_directly() {
+    let quad = |eye: f32, two_sided: bool| {
+        scene(&format!(
+            r#"
+            [camera]
+            eye = [0, 0, {eye}]
+            look_at = [0, 0, 0]
+            fov = 10
+            [render]
+            integrator = "path"
+            width = 8
+            height = 8
+            spp = 4
+            [materials.black.diffuse]
+            color = [0, 0, 0]
+            [[quad]]
+            material = "black"
+            vertices = [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]
+            emission = [3, 2, 1]
+            two_sided = {two_sided}
+        "#
+        ))
+    };
+    // Counter-clockwise seen from +z: the front faces +z.
+    let front = render_path(&quad(5.0, false));
+    assert!(front.pixels().iter().all(|&c| c == Color::new(3.0, 2.0, 1.0)), "{:?}", front.pixel(4, 4));
+    let back = render_path(&quad(-5.0, false));
+    assert!(back.pixels().iter().all(|&c| c == Color::ZERO));
+    let both = render_path(&quad(-5.0, true));
+    assert!(both.pixels().iter().all(|&c| c == Color::new(3.0, 2.0, 1.0)));
+}
+
+/// A perfect mirror of reflectance 1 and smooth glass both vanish in the
+/// furnace (they only redirect light); a rough conductor loses a little
+/// energy (single-scattering microfacets) but never gains any.
+#[test]
+fn furnace_for_conductors_and_dielectrics() {
+    let furnace = |material: &str| {
+        scene(&format!(
+            r#"
+            [camera]
+            eye = [0, 0, -4]
+            look_at = [0, 0, 0]
+            fov = 35
+            [render]
+            integrator = "path"
+            width = 24
+            height = 24
+            spp = 64
+            max_depth = 10000
+            [environment]
+            color = [1, 1, 1]
+            [materials.m]
+            {material}
+            [[sphere]]
+            radius = 1
+            material = "m"
+        "#
+        ))
+    };
+    let (mean, worst) = stats(&render_path(&furnace("conductor = { color = [1, 1, 1] }")), 1.0);
+    assert!((mean - 1.0).abs() < 1e-4 && worst < 1e-3, "mirror: mean {mean}, worst {worst}");
+    let (mean, worst) = stats(&render_path(&furnace("dielectric = { eta = 1.5 }")), 1.0);
+    assert!((mean - 1.0).abs() < 5e-3 && worst < 0.1, "glass: mean {mean}, worst {worst}");
+    let (mean, _) = stats(&render_path(&furnace("conductor = { color = [1, 1, 1], roughness = 0.5 }")), 1.0);
+    assert!(mean <= 1.0 + 2e-3 && mean > 0.9, "rough metal: mean {mean}");
+    let (mean, _) = stats(&render_path(&furnace("dielectric = { eta = 1.5, roughness = 0.3 }")), 1.0);
+    assert!(mean <= 1.0 + 5e-3 && mean > 0.85, "rough glass: mean {mean}");
+    let (mean, _) = stats(&render_path(&furnace("plastic = { color = [1, 1, 1] }")), 1.0);
+    assert!(mean <= 1.0 + 5e-3 && mean > 0.85, "plastic: mean {mean}");
+}
+
+fn small_cornell() -> Scene {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
+    let mut file = SceneFile::load(path).unwrap();
+    file.description.render.width = lucent::scene::ImageDimension(48);
+    file.description.render.height = lucent::scene::ImageDimension(48);
+    file.description.render.spp = lucent::scene::SampleCount(8);
+    file.build().unwrap()
+}
+
+/// The same seed gives the same image for any number of threads.
+#[test]
+fn path_renders_are_identical_for_any_thread_count() {
+    let s = small_cornell();
+    let one = render(&s, &RenderOptions { threads: Some(1), progress: None }).unwrap().film;
+    let three = render(&s, &RenderOptions { threads: Some(3), progress: None }).unwrap().film;
+    assert_eq!(one, three);
+}
+
+/// A render done in several runs (3 samples, then 2 more, then 3 more)
+/// ends bit-identical to one done in one go.
+#[test]
+fn resumed_renders_equal_uninterrupted_ones() {
+    let s = small_cornell();
+    let mut whole = Accumulator::new(48, 48).unwrap();
+    render_progressive(&s, &mut whole, ProgressiveOptions { spp: 8, ..Default::default() }).unwrap();
+    let mut parts = Accumulator::new(48, 48).unwrap();
+    for target in [3, 5, 8] {
+        render_progressive(&s, &mut parts, ProgressiveOptions { spp: target, threads: Some(2), ..Default::default() })
+            .unwrap();
+    }
+    assert_eq!(parts.spp(), 8);
+    assert_eq!(whole, parts);
+}
