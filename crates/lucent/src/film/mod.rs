@@ -1,11 +1,16 @@
 //! The film: the image being formed, in linear radiance, and its conversion
 //! to display values and files.
 
+mod compare;
 mod filter;
 mod output;
 mod tonemap;
 
-pub use filter::{Filter, FilterSample, FilterSampler};
+pub use compare::{
+    compare, read_image, relative_squared_error, srgb_decode, CompareError, DiffMetrics, ImageReadError,
+    REL_MSE_EPSILON,
+};
+pub use filter::{Filter, FilterError, FilterSample, FilterSampler, TABLE_SEGMENTS};
 pub use output::{ImageFormat, OutputError, PendingImage};
 pub use tonemap::{srgb_encode, ToneMap};
 
