@@ -28,6 +28,9 @@ pub enum Command {
     /// to compare with the Embree reference on the same rays.
     #[command(long_about = BENCH_RAYS_ABOUT)]
     BenchRays(BenchRaysArgs),
+    /// Compare an image with a reference image (MSE, relative MSE, largest
+    /// error).
+    Diff(crate::diff::DiffArgs),
 }
 
 /// Values that override the scene file's `[render]` table.

@@ -12,6 +12,7 @@ macro_rules! say {
 mod bench;
 mod bench_rays;
 mod cli;
+mod diff;
 mod path_render;
 mod progress;
 
@@ -33,6 +34,7 @@ fn main() -> ExitCode {
         Command::Check { scene } => run_check(&scene),
         Command::Bench(args) => bench::run(&args),
         Command::BenchRays(args) => bench_rays::run(&args),
+        Command::Diff(args) => diff::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

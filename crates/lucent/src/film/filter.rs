@@ -3,6 +3,28 @@
 //! each sample's position within the pixel is drawn from the filter's
 //! distribution and weighted by `f/pdf`, so a sample affects one pixel only
 //! and pixels stay independent.
+//!
+//! # Weights
+//!
+//! Offsets are drawn with density `p = |f| / ∫|f|`, and
+//! [`FilterSample::weight`] is `f(offset) / (p(offset) · ∫|f|)`, that is
+//! `sign f(offset)`: `1` for the box, tent and Gaussian filters, which are
+//! never negative, and `±1` for Mitchell–Netravali, whose negative lobes are
+//! sampled by their magnitude. Its expectation is `∫f / ∫|f|` (1 for the
+//! non-negative filters). The film forms each pixel as `Σ w·L / Σ w`, in
+//! which any constant factor of the weights cancels, so this is the
+//! filter-weighted average of the radiance over the filter's support.
+//!
+//! All four filters are separable, `f(x, y) = f₁(x)·f₁(y)`, so a 2D offset is
+//! two independent 1D draws and the weight is the product of their signs.
+//! The box and tent are inverted analytically. The Gaussian and
+//! Mitchell–Netravali filters have no closed-form inverse CDF; they are
+//! tabulated as `|f₁|` at [`TABLE_SEGMENTS`]` + 1` evenly spaced points over
+//! `[−r, r]` and sampled *exactly* from the piecewise-linear interpolant of
+//! those points. The interpolant differs from `|f₁|` by at most `h²·max|f₁''|/8`
+//! (`h = 2r / TABLE_SEGMENTS`), a few parts in a million of the peak for the
+//! usual parameters; within that tolerance the sampling is proportional to
+//! `|f|`, which is why the weight is a constant sign.
 
 use glam::Vec2;
 
@@ -19,14 +41,19 @@ pub enum Filter {
         /// Radius.
         radius: f32,
     },
-    /// A Gaussian of standard deviation `sigma`, cut off at `radius`.
+    /// A Gaussian of standard deviation `sigma`, cut off at `radius`: as in
+    /// PBRT 4th ed. (§8.8.3), the value at the radius is subtracted so that
+    /// the filter falls to zero there, `f₁(x) = max(0, g(x) − g(r))`.
     Gaussian {
         /// Radius.
         radius: f32,
         /// Standard deviation.
         sigma: f32,
     },
-    /// Mitchell–Netravali with parameters `b`, `c` (1/3, 1/3 recommended).
+    /// Mitchell–Netravali with parameters `b`, `c` (1/3, 1/3 recommended),
+    /// its support `[−2, 2]` scaled to `[−radius, radius]` (Mitchell and
+    /// Netravali, "Reconstruction Filters in Computer Graphics", SIGGRAPH
+    /// 1988, eq. 8).
     Mitchell {
         /// Radius.
         radius: f32,
@@ -43,27 +70,220 @@ impl Default for Filter {
     }
 }
 
+/// A filter's parameters are out of range.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum FilterError {
+    /// The radius is not a positive finite number.
+    #[error("filter radius {0} is invalid: it must be a positive finite number of pixels")]
+    Radius(f32),
+    /// The Gaussian's standard deviation is not a positive finite number.
+    #[error("Gaussian filter sigma {0} is invalid: it must be a positive finite number of pixels")]
+    Sigma(f32),
+    /// A Mitchell–Netravali parameter is not finite.
+    #[error("Mitchell filter parameters b = {b}, c = {c} are invalid: both must be finite")]
+    Mitchell {
+        /// B.
+        b: f32,
+        /// C.
+        c: f32,
+    },
+    /// The filter is zero (to double precision) everywhere in its support,
+    /// e.g. a Gaussian whose sigma dwarfs its radius.
+    #[error("filter {0:?} is zero everywhere within its radius")]
+    Degenerate(Filter),
+}
+
+impl Filter {
+    /// The half-width of the filter's support, in pixels.
+    pub fn radius(&self) -> f32 {
+        match *self {
+            Filter::Box { radius } | Filter::Tent { radius } => radius,
+            Filter::Gaussian { radius, .. } | Filter::Mitchell { radius, .. } => radius,
+        }
+    }
+
+    /// Check the parameters: radius and sigma positive and finite,
+    /// Mitchell's `b` and `c` finite.
+    ///
+    /// ```
+    /// use lucent::film::{Filter, FilterError};
+    ///
+    /// assert!(Filter::Gaussian { radius: 1.5, sigma: 0.5 }.validate().is_ok());
+    /// assert_eq!(Filter::Tent { radius: -1.0 }.validate(), Err(FilterError::Radius(-1.0)));
+    /// ```
+    pub fn validate(&self) -> Result<(), FilterError> {
+        let r = self.radius();
+        if !(r.is_finite() && r > 0.0) {
+            return Err(FilterError::Radius(r));
+        }
+        match *self {
+            Filter::Gaussian { sigma, .. } if !(sigma.is_finite() && sigma > 0.0) => Err(FilterError::Sigma(sigma)),
+            Filter::Mitchell { b, c, .. } if !(b.is_finite() && c.is_finite()) => Err(FilterError::Mitchell { b, c }),
+            _ => Ok(()),
+        }
+    }
+
+    /// The 1D factor `f₁` of the separable filter at offset `x` (pixels),
+    /// zero outside `[−r, r]`. Not normalised: the scale does not matter to
+    /// filter importance sampling.
+    pub fn evaluate_1d(&self, x: f32) -> f32 {
+        self.eval_1d_f64(x as f64) as f32
+    }
+
+    /// The filter's value `f₁(x)·f₁(y)` at `offset` (not normalised).
+    pub fn evaluate(&self, offset: Vec2) -> f32 {
+        self.evaluate_1d(offset.x) * self.evaluate_1d(offset.y)
+    }
+
+    fn eval_1d_f64(&self, x: f64) -> f64 {
+        let r = self.radius() as f64;
+        let ax = x.abs();
+        if ax > r {
+            return 0.0;
+        }
+        match *self {
+            Filter::Box { .. } => 1.0,
+            Filter::Tent { .. } => 1.0 - ax / r,
+            Filter::Gaussian { sigma, .. } => {
+                let s2 = 2.0 * (sigma as f64).powi(2);
+                ((-ax * ax / s2).exp() - (-r * r / s2).exp()).max(0.0)
+            }
+            Filter::Mitchell { b, c, .. } => mitchell_1d(2.0 * ax / r, b as f64, c as f64),
+        }
+    }
+}
+
+/// The Mitchell–Netravali cubic (SIGGRAPH 1988, eq. 8) on `[0, 2]`:
+///
+/// ```text
+/// 6k(x) = (12 − 9B − 6C)x³ + (−18 + 12B + 6C)x² + (6 − 2B)            x < 1
+///       = (−B − 6C)x³ + (6B + 30C)x² + (−12B − 48C)x + (8B + 24C)     1 ≤ x < 2
+/// ```
+fn mitchell_1d(x: f64, b: f64, c: f64) -> f64 {
+    let v = if x < 1.0 {
+        ((12.0 - 9.0 * b - 6.0 * c) * x + (-18.0 + 12.0 * b + 6.0 * c)) * x * x + (6.0 - 2.0 * b)
+    } else if x < 2.0 {
+        (((-b - 6.0 * c) * x + (6.0 * b + 30.0 * c)) * x + (-12.0 * b - 48.0 * c)) * x + (8.0 * b + 24.0 * c)
+    } else {
+        0.0
+    };
+    v / 6.0
+}
+
 /// A sample offset and its weight.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FilterSample {
     /// Offset from the pixel centre, in pixels.
     pub offset: Vec2,
-    /// `f(offset) / pdf(offset)` (constant for filters that are never
-    /// negative).
+    /// `f(offset) / (pdf(offset) · ∫|f|)`: the sign of the filter there, so
+    /// `1` for filters that are never negative and `±1` for Mitchell (see
+    /// the module documentation).
     pub weight: f32,
 }
 
+/// Segments of the tabulated 1D distributions (Gaussian, Mitchell).
+pub const TABLE_SEGMENTS: usize = 1024;
+
+/// A 1D density proportional to the piecewise-linear interpolant of
+/// `|f₁|` at evenly spaced nodes over `[−r, r]`, sampled by inverting its
+/// (piecewise-quadratic) CDF exactly.
+#[derive(Clone, Debug)]
+struct Table1D {
+    radius: f32,
+    /// `|f₁|` at the `TABLE_SEGMENTS + 1` nodes.
+    values: Vec<f32>,
+    /// The normalised CDF at the nodes: `cdf[0] = 0`, `cdf[n] = 1`.
+    cdf: Vec<f32>,
+}
+
+impl Table1D {
+    fn new(filter: &Filter) -> Option<Self> {
+        let r = filter.radius() as f64;
+        let n = TABLE_SEGMENTS;
+        let h = 2.0 * r / n as f64;
+        let values: Vec<f64> = (0..=n).map(|i| filter.eval_1d_f64(-r + i as f64 * h).abs()).collect();
+        // Trapezoids: the exact areas of the piecewise-linear interpolant.
+        let mut cdf = Vec::with_capacity(n + 1);
+        let mut total = 0.0;
+        cdf.push(0.0);
+        for w in values.windows(2) {
+            total += 0.5 * (w[0] + w[1]);
+            cdf.push(total);
+        }
+        if !(total.is_finite() && total > 0.0) {
+            return None;
+        }
+        // Normalise the values too (by the peak), so that they stay well
+        // within f32 range whatever the filter's scale.
+        let peak = values.iter().cloned().fold(0.0, f64::max);
+        let cdf: Vec<f32> = cdf.iter().map(|c| (c / total) as f32).collect();
+        let mut cdf = cdf;
+        cdf[n] = 1.0;
+        Some(Self { radius: r as f32, values: values.iter().map(|v| (v / peak) as f32).collect(), cdf })
+    }
+
+    /// The offset for `u ∈ [0, 1)`; monotone in `u`, so stratification of
+    /// the input carries over to the offsets.
+    #[inline]
+    fn sample(&self, u: f32) -> f32 {
+        let n = self.values.len() - 1;
+        let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, 1.0) };
+        // The segment: the last node whose CDF is ≤ u. Segments of zero
+        // area have equal CDF at both ends and are skipped.
+        let i = self.cdf.partition_point(|&c| c <= u).saturating_sub(1).min(n - 1);
+        let (c0, c1) = (self.cdf[i], self.cdf[i + 1]);
+        let s = if c1 > c0 { ((u - c0) / (c1 - c0)).clamp(0.0, 1.0) } else { 0.5 };
+        // Within the segment the density is linear from a to b; the fraction
+        // t ∈ [0, 1] with a·t + (b − a)t²/2 = s·(a + b)/2 is
+        // t = s(a + b) / (a + √(a² + s(b² − a²))), the root of the quadratic
+        // written without the cancellation of (−a + √…)/(b − a).
+        let (a, b) = (self.values[i], self.values[i + 1]);
+        let root = (a * a + s * (b * b - a * a)).max(0.0).sqrt();
+        let t = if a + root > 0.0 { (s * (a + b) / (a + root)).clamp(0.0, 1.0) } else { s };
+        let h = 2.0 * self.radius / n as f32;
+        (-self.radius + (i as f32 + t) * h).clamp(-self.radius, self.radius)
+    }
+}
+
 /// Draws offsets distributed like a [`Filter`].
+///
+/// ```
+/// use glam::Vec2;
+/// use lucent::film::{Filter, FilterSampler};
+///
+/// let sampler = FilterSampler::try_new(Filter::Tent { radius: 1.0 }).unwrap();
+/// let s = sampler.sample(Vec2::new(0.5, 0.5));
+/// assert_eq!(s.offset, Vec2::ZERO);
+/// assert_eq!(s.weight, 1.0);
+/// ```
 #[derive(Clone, Debug)]
 pub struct FilterSampler {
     filter: Filter,
+    table: Option<Table1D>,
 }
 
 impl FilterSampler {
     /// A sampler for `filter` (tabulated where the filter has no analytic
     /// inverse).
+    ///
+    /// # Panics
+    ///
+    /// If the filter's parameters are invalid; [`FilterSampler::try_new`]
+    /// returns the error instead.
     pub fn new(filter: Filter) -> Self {
-        Self { filter }
+        Self::try_new(filter).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// A sampler for `filter`, or why its parameters are invalid.
+    pub fn try_new(filter: Filter) -> Result<Self, FilterError> {
+        filter.validate()?;
+        let table = match filter {
+            Filter::Box { .. } | Filter::Tent { .. } => None,
+            Filter::Gaussian { .. } | Filter::Mitchell { .. } => {
+                Some(Table1D::new(&filter).ok_or(FilterError::Degenerate(filter))?)
+            }
+        };
+        Ok(Self { filter, table })
     }
 
     /// The filter.
@@ -71,9 +291,226 @@ impl FilterSampler {
         self.filter
     }
 
-    /// An offset for the uniform sample `u`.
+    /// An offset for the uniform sample `u ∈ [0, 1)²`, with density
+    /// proportional to `|f|`, and its weight (see [`FilterSample::weight`]).
+    /// Each coordinate of the offset is a non-decreasing function of the
+    /// matching coordinate of `u`, so stratified `u` give stratified offsets.
+    #[inline]
     pub fn sample(&self, u: Vec2) -> FilterSample {
-        let _ = u;
-        todo!()
+        match self.filter {
+            Filter::Box { radius } => {
+                let offset = (Vec2::new(2.0 * u.x - 1.0, 2.0 * u.y - 1.0) * radius)
+                    .clamp(-Vec2::splat(radius), Vec2::splat(radius));
+                FilterSample { offset, weight: 1.0 }
+            }
+            Filter::Tent { radius } => {
+                FilterSample { offset: Vec2::new(sample_tent(u.x, radius), sample_tent(u.y, radius)), weight: 1.0 }
+            }
+            Filter::Gaussian { .. } | Filter::Mitchell { .. } => {
+                let table = self.table.as_ref().expect("tabulated filters have a table");
+                let offset = Vec2::new(table.sample(u.x), table.sample(u.y));
+                let weight = match self.filter {
+                    // The Mitchell filter's sign: negative in one lobe of
+                    // exactly one of the two axes.
+                    Filter::Mitchell { .. } => {
+                        let sx = self.filter.evaluate_1d(offset.x) < 0.0;
+                        let sy = self.filter.evaluate_1d(offset.y) < 0.0;
+                        if sx != sy {
+                            -1.0
+                        } else {
+                            1.0
+                        }
+                    }
+                    _ => 1.0,
+                };
+                FilterSample { offset, weight }
+            }
+        }
+    }
+}
+
+/// Invert the CDF of the tent `1 − |x|/r` on `[−r, r]`: the CDF is
+/// `(1 + x/r)²/2` for `x ≤ 0` and `1 − (1 − x/r)²/2` for `x ≥ 0`, so
+/// `x = r(√(2u) − 1)` for `u < 1/2` and `x = r(1 − √(2(1 − u)))` otherwise.
+#[inline]
+fn sample_tent(u: f32, r: f32) -> f32 {
+    let u = if u.is_nan() { 0.5 } else { u.clamp(0.0, 1.0) };
+    let x = if u < 0.5 { r * ((2.0 * u).sqrt() - 1.0) } else { r * (1.0 - (2.0 * (1.0 - u)).sqrt()) };
+    x.clamp(-r, r)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const ALL: [Filter; 7] = [
+        Filter::Box { radius: 0.5 },
+        Filter::Box { radius: 1.5 },
+        Filter::Tent { radius: 1.0 },
+        Filter::Tent { radius: 2.0 },
+        Filter::Gaussian { radius: 1.5, sigma: 0.5 },
+        Filter::Mitchell { radius: 2.0, b: 1.0 / 3.0, c: 1.0 / 3.0 },
+        Filter::Mitchell { radius: 1.0, b: 0.0, c: 0.75 },
+    ];
+
+    /// ∫f₁ and ∫|f₁| over [−r, r] by the midpoint rule on a fine grid.
+    fn integrals_1d(filter: &Filter) -> (f64, f64) {
+        let r = filter.radius() as f64;
+        let n = 200_000;
+        let h = 2.0 * r / n as f64;
+        let (mut s, mut a) = (0.0, 0.0);
+        for i in 0..n {
+            let v = filter.eval_1d_f64(-r + (i as f64 + 0.5) * h);
+            s += v * h;
+            a += v.abs() * h;
+        }
+        (s, a)
+    }
+
+    /// Stratified, jittered uniforms: `n` values, one per `[i/n, (i+1)/n)`.
+    fn jittered(n: usize, seed: u64) -> Vec<f32> {
+        let mut rng = crate::sampling::Pcg32::new(seed, 1);
+        (0..n).map(|i| ((i as f32 + rng.uniform()) / n as f32).min(1.0 - f32::EPSILON / 2.0)).collect()
+    }
+
+    #[test]
+    fn histograms_match_the_filter_shape() {
+        let bins = 40;
+        let n = 400_000;
+        for filter in ALL {
+            let sampler = FilterSampler::new(filter);
+            let r = filter.radius() as f64;
+            let (_, abs_integral) = integrals_1d(&filter);
+            let mut hist = vec![0usize; bins];
+            let us = jittered(n, 3);
+            let vs = jittered(n, 4);
+            for (&u, &v) in us.iter().zip(&vs) {
+                let s = sampler.sample(Vec2::new(u, v));
+                for c in [s.offset.x, s.offset.y] {
+                    assert!((-filter.radius()..=filter.radius()).contains(&c), "{filter:?}: {c}");
+                }
+                let bin = (((s.offset.x as f64 + r) / (2.0 * r)) * bins as f64) as usize;
+                hist[bin.min(bins - 1)] += 1;
+            }
+            // Expected fraction per bin: ∫_bin |f₁| / ∫|f₁|.
+            for (k, &count) in hist.iter().enumerate() {
+                let (lo, hi) = (-r + 2.0 * r * k as f64 / bins as f64, -r + 2.0 * r * (k + 1) as f64 / bins as f64);
+                let m = 2000;
+                let mass: f64 = (0..m)
+                    .map(|j| {
+                        filter.eval_1d_f64(lo + (j as f64 + 0.5) * (hi - lo) / m as f64).abs() * (hi - lo) / m as f64
+                    })
+                    .sum::<f64>()
+                    / abs_integral;
+                let got = count as f64 / n as f64;
+                assert!((got - mass).abs() < 0.002 + 0.01 * mass, "{filter:?} bin {k}: {got} vs {mass}");
+            }
+        }
+    }
+
+    #[test]
+    fn mean_weight_is_signed_mass_over_absolute_mass() {
+        let n = 1 << 20;
+        let mut rng = crate::sampling::Pcg32::new(5, 5);
+        for filter in ALL {
+            let sampler = FilterSampler::new(filter);
+            let (s, a) = integrals_1d(&filter);
+            let expected = (s / a).powi(2);
+            let mut sum = 0.0f64;
+            for _ in 0..n {
+                let w = sampler.sample(Vec2::new(rng.uniform(), rng.uniform())).weight;
+                assert!(w == 1.0 || w == -1.0);
+                sum += w as f64;
+            }
+            let mean = sum / n as f64;
+            // Standard error ≤ 1/√n ≈ 0.001.
+            assert!((mean - expected).abs() < 0.004, "{filter:?}: mean weight {mean}, expected {expected}");
+            if !matches!(filter, Filter::Mitchell { .. }) {
+                assert_eq!(mean, 1.0);
+            }
+        }
+    }
+
+    #[test]
+    fn mitchell_weights_match_the_sign_of_the_filter() {
+        let filter = Filter::Mitchell { radius: 2.0, b: 1.0 / 3.0, c: 1.0 / 3.0 };
+        let sampler = FilterSampler::new(filter);
+        let mut negatives = 0;
+        for u in jittered(1000, 1) {
+            for v in [0.1, 0.5, 0.97] {
+                let s = sampler.sample(Vec2::new(u, v));
+                let f = filter.evaluate(s.offset);
+                if f != 0.0 {
+                    assert_eq!(s.weight, f.signum(), "{s:?}");
+                }
+                negatives += (s.weight < 0.0) as usize;
+            }
+        }
+        assert!(negatives > 0, "the negative lobes are sampled");
+    }
+
+    #[test]
+    fn extreme_inputs_give_finite_offsets_in_the_support() {
+        let edge = [0.0, 1.0 - f32::EPSILON / 2.0, 1.0, 0.5, f32::MIN_POSITIVE];
+        for filter in ALL {
+            let sampler = FilterSampler::new(filter);
+            let r = filter.radius();
+            for &u in &edge {
+                for &v in &edge {
+                    let s = sampler.sample(Vec2::new(u, v));
+                    assert!(s.offset.is_finite() && s.weight.is_finite(), "{filter:?} ({u}, {v}): {s:?}");
+                    assert!(s.offset.abs().max_element() <= r, "{filter:?} ({u}, {v}): {s:?}");
+                }
+            }
+            // Monotone in u.
+            let mut prev = -f32::INFINITY;
+            for u in jittered(10_000, 9) {
+                let x = sampler.sample(Vec2::new(u, 0.5)).offset.x;
+                assert!(x >= prev, "{filter:?}: not monotone at {u}");
+                prev = x;
+            }
+        }
+    }
+
+    #[test]
+    fn tent_inverse_is_exact() {
+        for &r in &[0.5f32, 1.0, 2.0] {
+            for k in 0..=100 {
+                let u = k as f32 / 100.0;
+                let x = sample_tent(u, r);
+                let cdf = if x <= 0.0 { 0.5 * (1.0 + x / r).powi(2) } else { 1.0 - 0.5 * (1.0 - x / r).powi(2) };
+                assert!((cdf - u).abs() < 1e-5, "r {r} u {u}: x {x} cdf {cdf}");
+            }
+        }
+    }
+
+    #[test]
+    fn invalid_parameters_are_rejected() {
+        for (filter, err) in [
+            (Filter::Box { radius: 0.0 }, FilterError::Radius(0.0)),
+            (Filter::Tent { radius: f32::INFINITY }, FilterError::Radius(f32::INFINITY)),
+            (Filter::Gaussian { radius: 1.0, sigma: -0.5 }, FilterError::Sigma(-0.5)),
+            (Filter::Mitchell { radius: 2.0, b: f32::NAN, c: 0.0 }, FilterError::Mitchell { b: f32::NAN, c: 0.0 }),
+        ] {
+            let got = FilterSampler::try_new(filter).map(|_| ()).unwrap_err();
+            // NaN ≠ NaN: compare the messages.
+            assert_eq!(got.to_string(), err.to_string());
+        }
+        assert!(matches!(Filter::Box { radius: f32::NAN }.validate(), Err(FilterError::Radius(_))));
+        // A Gaussian far wider than its radius is zero to double precision.
+        let flat = Filter::Gaussian { radius: 1e-30, sigma: 1e30 };
+        assert_eq!(FilterSampler::try_new(flat).map(|_| ()), Err(FilterError::Degenerate(flat)));
+    }
+
+    #[test]
+    fn mitchell_kernel_is_normalised() {
+        // The Mitchell–Netravali family integrates to 1 over [−2, 2] for any
+        // B and C, and k(0) = (6 − 2B)/6.
+        for (b, c) in [(1.0 / 3.0, 1.0 / 3.0), (0.0, 0.5), (1.0, 0.0)] {
+            let f = Filter::Mitchell { radius: 2.0, b, c };
+            let (s, _) = integrals_1d(&f);
+            assert!((s - 1.0).abs() < 1e-6, "b {b} c {c}: {s}");
+            assert!((f.eval_1d_f64(0.0) - (6.0 - 2.0 * b as f64) / 6.0).abs() < 1e-12);
+        }
     }
 }

@@ -1,7 +1,37 @@
 //! Samplers for the path integrator: an endless, deterministic sequence of
 //! sample vectors per pixel, addressed by sample index, so that a render can
 //! stop after any number of samples and later continue (PBRT 4th ed., ch. 8).
+//!
+//! # The Sobol sampler
+//!
+//! [`SamplerKind::Sobol`] is the "shuffled, scrambled, padded" Sobol sampler
+//! of Burley, "Practical Hash-based Owen Scrambling", JCGT 9(4), 2020, §4–5.
+//! Every request for a 1D or 2D value opens a new *dimension* `d` (counted
+//! from 0 at [`PathSampler::start_pixel_sample`]). For dimension `d` of
+//! sample `i` of pixel `(x, y)`:
+//!
+//! 1. the index is shuffled, `j = owen(i, h₀)`, a nested uniform Owen
+//!    scramble of the index's bits (seen as a base-2 fraction), with a hash
+//!    `h₀` of (seed, pixel, d). An Owen scramble of the index maps every
+//!    aligned block of 2ᵏ indices onto an aligned block of 2ᵏ indices, so the
+//!    first 2ᵏ samples of the pixel are always a whole aligned block of the
+//!    Sobol sequence — and a different block, in a different order, for each
+//!    dimension, which decorrelates the dimensions ("padding");
+//! 2. the point `(sobol₀(j), sobol₁(j))` is taken from the first two Sobol
+//!    dimensions (a 1D request uses `sobol₀` alone);
+//! 3. each coordinate is Owen-scrambled with its own hash `h₁`, `h₂`.
+//!
+//! The first two Sobol dimensions form a (0,2)-sequence in base 2: every
+//! aligned block of 2ᵏ points is a (0,k,2)-net, i.e. each elementary
+//! interval `[a/2ᵖ, (a+1)/2ᵖ) × [b/2^q, (b+1)/2^q)` with `p + q = k` holds
+//! exactly one point (Sobol 1967; Niederreiter, "Random Number Generation
+//! and Quasi-Monte Carlo Methods", 1992, ch. 4). Owen scrambling preserves
+//! that property (Owen 1995) while making each point uniformly distributed,
+//! so the estimates are unbiased and their error falls faster than with
+//! independent samples: for every power-of-two prefix of the samples, every
+//! 2D request of a path is stratified.
 
+use super::{mix_seed, Pcg32};
 use glam::Vec2;
 
 /// Which sample sequence a render uses.
@@ -18,16 +48,48 @@ pub enum SamplerKind {
 /// The sample vectors of one pixel sample. Dimensions are consumed in
 /// order: [`PathSampler::pixel_2d`] first, then whatever the camera and the
 /// integrator ask for.
+///
+/// The values depend only on the seed, the pixel, the sample index and how
+/// many values were requested before in the same pixel sample — not on the
+/// thread, nor on which samples were rendered before — so a render can be
+/// resumed at any sample index and two runs are bit-identical.
+///
+/// ```
+/// use lucent::sampling::{PathSampler, SamplerKind};
+///
+/// let mut s = PathSampler::new(SamplerKind::Sobol, 7);
+/// s.start_pixel_sample(3, 4, 0);
+/// let film = s.pixel_2d();
+/// let lens = s.get_2d();
+/// let light = s.get_1d();
+/// for v in [film.x, film.y, lens.x, lens.y, light] {
+///     assert!((0.0..1.0).contains(&v));
+/// }
+/// // The same pixel sample gives the same values again.
+/// s.start_pixel_sample(3, 4, 0);
+/// assert_eq!(s.pixel_2d(), film);
+/// ```
 #[derive(Clone, Debug)]
 pub struct PathSampler {
     kind: SamplerKind,
     seed: u64,
+    /// Hash of (seed, x, y): the per-pixel part of every scramble seed.
+    pixel_hash: u64,
+    /// The sample index within the pixel.
+    index: u32,
+    /// The next dimension (Sobol).
+    dimension: u32,
+    /// The independent sampler's generator, re-seeded per pixel sample.
+    rng: Pcg32,
 }
+
+/// 2⁻²⁴: converts a 24-bit integer to a float in `[0, 1)` exactly.
+const INV_2_24: f32 = 1.0 / (1u32 << 24) as f32;
 
 impl PathSampler {
     /// A sampler of `kind` for a render with `seed`.
     pub fn new(kind: SamplerKind, seed: u64) -> Self {
-        Self { kind, seed }
+        Self { kind, seed, pixel_hash: 0, index: 0, dimension: 0, rng: Pcg32::new(seed, 0) }
     }
 
     /// Which sequence this is.
@@ -37,24 +99,401 @@ impl PathSampler {
 
     /// Start sample number `index` of pixel `(x, y)`; the values that follow
     /// depend only on the seed, the pixel, the index and the dimension.
+    #[inline]
     pub fn start_pixel_sample(&mut self, x: u32, y: u32, index: u32) {
-        let _ = (x, y, index, self.seed);
-        todo!()
+        self.index = index;
+        self.dimension = 0;
+        match self.kind {
+            SamplerKind::Independent => {
+                // One generator per pixel sample; its draws are taken in
+                // order, so the values depend on (seed, x, y, index) and the
+                // position in the sequence only.
+                self.rng = Pcg32::new(mix_seed(&[self.seed, x as u64, y as u64, index as u64]), 0);
+            }
+            SamplerKind::Sobol => {
+                self.pixel_hash = mix_seed(&[self.seed, x as u64, y as u64]);
+            }
+        }
     }
 
     /// The next dimension, uniform in `[0, 1)`.
+    #[inline]
     pub fn get_1d(&mut self) -> f32 {
-        todo!()
+        match self.kind {
+            SamplerKind::Independent => self.rng.uniform(),
+            SamplerKind::Sobol => {
+                let (h_index, h_x, _) = self.dimension_hashes();
+                let j = nested_uniform_scramble(self.index, h_index);
+                // Sobol dimension 0 is the van der Corput sequence, the
+                // index's bits mirrored about the binary point.
+                to_unit_float(nested_uniform_scramble(j.reverse_bits(), h_x))
+            }
+        }
     }
 
     /// The next two dimensions, uniform in `[0, 1)²`.
+    #[inline]
     pub fn get_2d(&mut self) -> Vec2 {
-        todo!()
+        match self.kind {
+            SamplerKind::Independent => {
+                // Two statements: the x draw comes first, whatever the
+                // compiler's evaluation order of a tuple would be.
+                let u = self.rng.uniform();
+                let v = self.rng.uniform();
+                Vec2::new(u, v)
+            }
+            SamplerKind::Sobol => {
+                let (h_index, h_x, h_y) = self.dimension_hashes();
+                let j = nested_uniform_scramble(self.index, h_index);
+                let x = nested_uniform_scramble(j.reverse_bits(), h_x);
+                let y = nested_uniform_scramble(sobol_1(j), h_y);
+                Vec2::new(to_unit_float(x), to_unit_float(y))
+            }
+        }
     }
 
     /// The sample's position within the pixel filter's support: the first
     /// two dimensions.
+    #[inline]
     pub fn pixel_2d(&mut self) -> Vec2 {
         self.get_2d()
+    }
+
+    /// Three 32-bit scramble seeds for the current dimension (index
+    /// shuffle, first coordinate, second coordinate), and advance to the
+    /// next dimension.
+    #[inline]
+    fn dimension_hashes(&mut self) -> (u32, u32, u32) {
+        let d = self.dimension as u64;
+        self.dimension = self.dimension.wrapping_add(1);
+        // Two SplitMix64 finalisations of (pixel hash, dimension) give 128
+        // well-mixed bits, of which 96 are used.
+        let a = splitmix64(self.pixel_hash ^ d.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        let b = splitmix64(a ^ 0xD1B5_4A32_D192_ED03);
+        (a as u32, (a >> 32) as u32, b as u32)
+    }
+}
+
+/// The SplitMix64 output function (Steele, Lea and Flood, "Fast Splittable
+/// Pseudorandom Number Generators", OOPSLA 2014): a bijective 64-bit mix.
+#[inline]
+fn splitmix64(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// The top 24 bits of a 32-bit fixed-point fraction as a float in `[0, 1)`:
+/// every value is exact and the largest is `1 − 2⁻²⁴`.
+#[inline]
+fn to_unit_float(bits: u32) -> f32 {
+    (bits >> 8) as f32 * INV_2_24
+}
+
+/// The generator matrix of the second Sobol dimension, as its 32 columns
+/// (direction numbers) in 0.32 fixed point: column `k` is the image of
+/// index bit `k`.
+///
+/// The second dimension uses the primitive polynomial `x + 1` (degree 1)
+/// with initial direction number `m₁ = 1`. The recurrence for direction
+/// numbers (Bratley and Fox, "Algorithm 659", ACM TOMS 14(1), 1988, eq. 2),
+/// `v_k = a₁v_{k−1} ⊕ v_{k−1}/2` with `a₁ = 1`, gives `v₁ = 1/2` and
+/// `v_k = v_{k−1} ⊕ (v_{k−1} >> 1)`: the matrix is Pascal's triangle mod 2.
+const SOBOL_1_MATRIX: [u32; 32] = {
+    let mut m = [0u32; 32];
+    m[0] = 1 << 31;
+    let mut k = 1;
+    while k < 32 {
+        m[k] = m[k - 1] ^ (m[k - 1] >> 1);
+        k += 1;
+    }
+    m
+};
+
+/// The second Sobol dimension of point `index`, in 0.32 fixed point: the
+/// XOR of the matrix columns of the index's set bits.
+#[inline]
+fn sobol_1(mut index: u32) -> u32 {
+    let mut v = 0;
+    while index != 0 {
+        let k = index.trailing_zeros();
+        v ^= SOBOL_1_MATRIX[k as usize];
+        index &= index - 1;
+    }
+    v
+}
+
+/// A hash-based nested uniform (Owen) scramble of the 0.32 fixed-point
+/// fraction `v` (Burley 2020, §3).
+///
+/// Owen scrambling flips digit `k` of a base-2 fraction according to a
+/// random function of the digits before it (more significant ones). After
+/// the bits are reversed, the digits before digit `k` are the *lower* bits,
+/// and several integer operations have exactly that dependency structure:
+/// bit `k` of `x + c`, of `x · odd` and of `x ⊕ (x · even)` is bit `k` of `x`
+/// flipped by a function of the lower bits alone. Composing them with
+/// seed-dependent operands is the Laine–Karras permutation ("Stratified
+/// Sampling for Stochastic Transparency", EGSR 2011) that Burley uses;
+/// this variant, with a seed-dependent odd multiplier, follows Vegdahl's
+/// refinement of its constants ("Building a Better LK Hash", 2021), which
+/// makes the flips of the leading digits depend on more of the seed.
+#[inline]
+fn nested_uniform_scramble(v: u32, seed: u32) -> u32 {
+    let mut x = v.reverse_bits();
+    x ^= x.wrapping_mul(0x3d20_adea);
+    x = x.wrapping_add(seed);
+    x = x.wrapping_mul((seed >> 16) | 1);
+    x ^= x.wrapping_mul(0x0552_6c56);
+    x ^= x.wrapping_mul(0x53a2_2864);
+    x.reverse_bits()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `n` successive 2D values of dimension pair `dim` (the `dim`-th
+    /// request of each sample) for pixel `(x, y)`, samples `0..n`.
+    fn points_2d(kind: SamplerKind, seed: u64, x: u32, y: u32, dim: usize, n: u32) -> Vec<Vec2> {
+        let mut s = PathSampler::new(kind, seed);
+        (0..n)
+            .map(|i| {
+                s.start_pixel_sample(x, y, i);
+                for _ in 0..dim {
+                    s.get_2d();
+                }
+                s.get_2d()
+            })
+            .collect()
+    }
+
+    /// Whether `points` form a (0, k, 2)-net in base 2: every elementary
+    /// interval of area 2⁻ᵏ (all shapes 2⁻ᵃ × 2⁻⁽ᵏ⁻ᵃ⁾) holds exactly one.
+    fn is_net(points: &[Vec2]) -> bool {
+        let n = points.len();
+        assert!(n.is_power_of_two());
+        let k = n.trailing_zeros();
+        for a in 0..=k {
+            let (nx, ny) = (1u32 << a, 1u32 << (k - a));
+            let mut seen = vec![false; n];
+            for p in points {
+                let cx = (p.x * nx as f32) as u32;
+                let cy = (p.y * ny as f32) as u32;
+                let cell = (cy * nx + cx) as usize;
+                if seen[cell] {
+                    return false;
+                }
+                seen[cell] = true;
+            }
+        }
+        true
+    }
+
+    #[test]
+    fn sobol_1_matrix_is_pascal_mod_2() {
+        // Column k has bit (31 − r) set iff C(k, r) is odd (Lucas: r ⊆ k).
+        for k in 0..32u32 {
+            for r in 0..32u32 {
+                let expected = r <= k && (r & k) == r;
+                assert_eq!(SOBOL_1_MATRIX[k as usize] >> (31 - r) & 1 == 1, expected, "k={k} r={r}");
+            }
+        }
+        // The first points of the second Sobol dimension in index (not Gray
+        // code) order: 0, 1/2, 3/4, 1/4, 5/8, 1/8, 3/8, 7/8.
+        let first: Vec<f64> = (0..8).map(|i| sobol_1(i) as f64 / 2f64.powi(32)).collect();
+        assert_eq!(first, [0.0, 0.5, 0.75, 0.25, 0.625, 0.125, 0.375, 0.875]);
+    }
+
+    #[test]
+    fn unscrambled_sobol_is_a_net() {
+        for k in 0..=10 {
+            let pts: Vec<Vec2> =
+                (0..1u32 << k).map(|i| Vec2::new(to_unit_float(i.reverse_bits()), to_unit_float(sobol_1(i)))).collect();
+            assert!(is_net(&pts), "k = {k}");
+        }
+    }
+
+    #[test]
+    fn owen_scramble_is_a_nested_permutation() {
+        // For every seed, a bijection of 8-bit prefixes that maps intervals
+        // of length 2⁻ᵖ onto intervals of length 2⁻ᵖ.
+        for seed in [0u32, 1, 0xdead_beef, 0x1234_5678, u32::MAX] {
+            let image: Vec<u32> = (0..256u32).map(|v| nested_uniform_scramble(v << 24, seed) >> 24).collect();
+            let mut sorted = image.clone();
+            sorted.sort_unstable();
+            assert_eq!(sorted, (0..256).collect::<Vec<_>>(), "seed {seed:#x}");
+            for p in 0..8 {
+                let shift = 8 - p;
+                for block in 0..(1u32 << p) {
+                    let targets: std::collections::HashSet<u32> =
+                        (0..(1u32 << shift)).map(|low| image[((block << shift) | low) as usize] >> shift).collect();
+                    assert_eq!(targets.len(), 1, "seed {seed:#x}, p {p}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn values_are_in_unit_interval() {
+        for kind in [SamplerKind::Independent, SamplerKind::Sobol] {
+            let mut s = PathSampler::new(kind, 3);
+            for i in 0..2000 {
+                s.start_pixel_sample(i % 7, i / 7, i);
+                for _ in 0..20 {
+                    let v = s.get_2d();
+                    assert!((0.0..1.0).contains(&v.x) && (0.0..1.0).contains(&v.y), "{v}");
+                    let u = s.get_1d();
+                    assert!((0.0..1.0).contains(&u), "{u}");
+                }
+            }
+        }
+        // The largest representable value is below 1.
+        assert!(to_unit_float(u32::MAX) < 1.0);
+    }
+
+    #[test]
+    fn deterministic_and_independent_of_history() {
+        for kind in [SamplerKind::Independent, SamplerKind::Sobol] {
+            let draw = |s: &mut PathSampler, x, y, i| {
+                s.start_pixel_sample(x, y, i);
+                let mut v = vec![s.pixel_2d()];
+                v.push(Vec2::splat(s.get_1d()));
+                v.push(s.get_2d());
+                v
+            };
+            let mut a = PathSampler::new(kind, 11);
+            let mut b = PathSampler::new(kind, 11);
+            // b renders other pixels and samples first: a resumed or
+            // differently scheduled render.
+            for i in 0..50 {
+                draw(&mut b, 9, 9, i);
+            }
+            let va = draw(&mut a, 2, 5, 64);
+            let vb = draw(&mut b, 2, 5, 64);
+            assert_eq!(va, vb, "{kind:?}");
+            // Other pixels, indices and seeds give other values.
+            assert_ne!(va, draw(&mut a, 3, 5, 64), "{kind:?}");
+            assert_ne!(va, draw(&mut a, 2, 6, 64), "{kind:?}");
+            assert_ne!(va, draw(&mut a, 2, 5, 65), "{kind:?}");
+            assert_ne!(va, draw(&mut PathSampler::new(kind, 12), 2, 5, 64), "{kind:?}");
+        }
+    }
+
+    #[test]
+    fn sobol_2d_dimensions_are_nets_for_every_power_of_two_prefix() {
+        for (x, y, seed) in [(0, 0, 0), (17, 3, 1), (640, 480, 0xfeed)] {
+            let all = points_2d(SamplerKind::Sobol, seed, x, y, 0, 1024);
+            for dim in 0..6 {
+                let pts = points_2d(SamplerKind::Sobol, seed, x, y, dim, 1024);
+                for k in 0..=10 {
+                    assert!(is_net(&pts[..1 << k]), "pixel ({x}, {y}) dim {dim}: first 2^{k} not a net");
+                }
+                if dim > 0 {
+                    assert_ne!(pts, all, "dimension {dim} repeats dimension 0");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn sobol_1d_dimensions_are_stratified() {
+        let mut s = PathSampler::new(SamplerKind::Sobol, 5);
+        for dim in 0..5 {
+            for k in 0..=10 {
+                let n = 1usize << k;
+                let mut seen = vec![false; n];
+                for i in 0..n as u32 {
+                    s.start_pixel_sample(4, 2, i);
+                    for _ in 0..dim {
+                        s.get_1d();
+                    }
+                    let cell = (s.get_1d() * n as f32) as usize;
+                    assert!(!seen[cell], "dim {dim}, 2^{k} samples: interval {cell} hit twice");
+                    seen[cell] = true;
+                }
+            }
+        }
+    }
+
+    /// RMS error over `pixels` pixels of the `n`-sample estimate of the
+    /// integral of `f` over the unit square, using 2D dimension `dim`.
+    fn rms_error(kind: SamplerKind, n: u32, dim: usize, pixels: u32, f: &dyn Fn(Vec2) -> f64, exact: f64) -> f64 {
+        let mut sum_sq = 0.0;
+        for p in 0..pixels {
+            let pts = points_2d(kind, 99, p % 64, p / 64, dim, n);
+            let est = pts.iter().map(|&u| f(u)).sum::<f64>() / n as f64;
+            sum_sq += (est - exact).powi(2);
+        }
+        (sum_sq / pixels as f64).sqrt()
+    }
+
+    #[test]
+    fn sobol_converges_faster_than_independent() {
+        // A smooth integrand: ∫∫ exp(−(x² + y²)) = (√π/2 · erf 1)².
+        let smooth = |u: Vec2| (-(u.x as f64).powi(2) - (u.y as f64).powi(2)).exp();
+        let erf1 = 0.842_700_792_949_714_9_f64;
+        let smooth_exact = (std::f64::consts::PI.sqrt() / 2.0 * erf1).powi(2);
+        // A discontinuous one: the disk of radius 0.4 about the centre.
+        let disk = |u: Vec2| if (u - Vec2::splat(0.5)).length_squared() < 0.16 { 1.0 } else { 0.0 };
+        let disk_exact = std::f64::consts::PI * 0.16;
+        for dim in [0, 3] {
+            let ind = rms_error(SamplerKind::Independent, 256, dim, 256, &smooth, smooth_exact);
+            let sob = rms_error(SamplerKind::Sobol, 256, dim, 256, &smooth, smooth_exact);
+            eprintln!("smooth, dim {dim}: independent {ind:.3e}, sobol {sob:.3e}, ratio {:.1}", ind / sob);
+            assert!(sob * 4.0 < ind, "smooth, dim {dim}: sobol {sob:e} vs independent {ind:e}");
+            let ind = rms_error(SamplerKind::Independent, 256, dim, 256, &disk, disk_exact);
+            let sob = rms_error(SamplerKind::Sobol, 256, dim, 256, &disk, disk_exact);
+            eprintln!("disk, dim {dim}: independent {ind:.3e}, sobol {sob:.3e}, ratio {:.1}", ind / sob);
+            assert!(sob * 2.0 < ind, "disk, dim {dim}: sobol {sob:e} vs independent {ind:e}");
+        }
+    }
+
+    #[test]
+    fn sobol_dimensions_are_uncorrelated() {
+        // E[u_d · u_d'] = 1/4 for independent uniforms; check every pair of
+        // coordinates among the first four 2D requests, over many pixels.
+        let n = 64u32;
+        let pixels = 256u32;
+        let mut s = PathSampler::new(SamplerKind::Sobol, 42);
+        let coords = 8;
+        let mut sums = vec![0.0f64; coords * coords];
+        for p in 0..pixels {
+            for i in 0..n {
+                s.start_pixel_sample(p, 7, i);
+                let mut c = Vec::with_capacity(coords);
+                for _ in 0..coords / 2 {
+                    let v = s.get_2d();
+                    c.extend([v.x as f64, v.y as f64]);
+                }
+                for a in 0..coords {
+                    for b in 0..coords {
+                        sums[a * coords + b] += c[a] * c[b];
+                    }
+                }
+            }
+        }
+        let total = (n * pixels) as f64;
+        for a in 0..coords {
+            for b in 0..coords {
+                let mean = sums[a * coords + b] / total;
+                if a == b {
+                    // E[u²] = 1/3.
+                    assert!((mean - 1.0 / 3.0).abs() < 0.005, "E[u{a}²] = {mean}");
+                } else {
+                    assert!((mean - 0.25).abs() < 0.008, "E[u{a} u{b}] = {mean}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn independent_matches_its_generator() {
+        let mut s = PathSampler::new(SamplerKind::Independent, 8);
+        s.start_pixel_sample(1, 2, 3);
+        let mut rng = Pcg32::new(mix_seed(&[8, 1, 2, 3]), 0);
+        let v = s.get_2d();
+        assert_eq!(v, Vec2::new(rng.uniform(), rng.uniform()));
+        assert_eq!(s.get_1d(), rng.uniform());
     }
 }

@@ -1,0 +1,117 @@
+//! `lucent diff`: error figures of an image against a reference image.
+
+use clap::Args;
+use lucent::film::{compare, read_image, relative_squared_error, CompareError, Film, PendingImage, ToneMap};
+use std::path::PathBuf;
+
+/// Compare an image with a reference: MSE, relative MSE (relative to the
+/// reference), the largest absolute error and where it is, and the count of
+/// non-finite pixels.
+///
+/// Images are OpenEXR or Radiance .hdr (linear) or PNG/BMP (sRGB, decoded to
+/// linear); both must have the same size. Pixels that are NaN or infinite in
+/// either image are left out of the figures and counted.
+#[derive(Args, Debug)]
+pub struct DiffArgs {
+    /// The image to assess.
+    #[arg(value_name = "A")]
+    pub a: PathBuf,
+    /// The reference image.
+    #[arg(value_name = "REFERENCE")]
+    pub b: PathBuf,
+    /// Print the figures as one JSON object: mse, rel_mse, max_abs_error,
+    /// max_at ([x, y] or null), max_channel, nonfinite (pixels of A),
+    /// nonfinite_reference, width, height.
+    #[arg(long)]
+    pub json: bool,
+    /// Also write a false-colour map of each pixel's relative squared error
+    /// (.png or .bmp): black below 1e-4, then blue, cyan, yellow, red, and
+    /// white at 1 and above, on a logarithmic scale; magenta where a pixel
+    /// is not finite.
+    #[arg(long, value_name = "OUT")]
+    pub heatmap: Option<PathBuf>,
+}
+
+const CHANNELS: [&str; 3] = ["r", "g", "b"];
+
+/// Run `lucent diff`.
+pub fn run(args: &DiffArgs) -> Result<(), String> {
+    // Reserve the heat map first, so that a bad output path fails before
+    // any work, and an existing file is replaced only by a complete one.
+    let heatmap = args.heatmap.as_ref().map(PendingImage::create).transpose().map_err(|e| e.to_string())?;
+    let a = read_image(&args.a).map_err(|e| e.to_string())?;
+    let b = read_image(&args.b).map_err(|e| e.to_string())?;
+    let m = compare(&a, &b).map_err(|e| match e {
+        CompareError::SizeMismatch(wa, ha, wb, hb) => format!(
+            "cannot compare '{}' ({wa}×{ha}) with '{}' ({wb}×{hb}): the sizes differ",
+            args.a.display(),
+            args.b.display()
+        ),
+    })?;
+    if let Some(pending) = heatmap {
+        pending.write(&heat_map(&a, &b), ToneMap::Clamp, false).map_err(|e| e.to_string())?;
+    }
+
+    if args.json {
+        let json = serde_json::json!({
+            "mse": m.mse,
+            "rel_mse": m.rel_mse,
+            "max_abs_error": m.max_abs_error,
+            "max_at": m.max_at.map(|(x, y, _)| [x, y]),
+            "max_channel": m.max_at.map(|(_, _, c)| CHANNELS[c]),
+            "nonfinite": m.nonfinite,
+            "nonfinite_reference": m.nonfinite_reference,
+            "width": a.width(),
+            "height": a.height(),
+        });
+        say!("{json}")?;
+        return Ok(());
+    }
+    match m.max_at {
+        Some((x, y, c)) => say!(
+            "MSE {:.4e}  relMSE {:.4e}  max |a−b| {:.4e} at ({x}, {y}) channel {}",
+            m.mse,
+            m.rel_mse,
+            m.max_abs_error,
+            CHANNELS[c]
+        )?,
+        None => say!("no pixel is finite in both images: nothing to compare")?,
+    }
+    if m.nonfinite > 0 || m.nonfinite_reference > 0 {
+        say!(
+            "non-finite pixels (left out): {} in '{}', {} in '{}'",
+            m.nonfinite,
+            args.a.display(),
+            m.nonfinite_reference,
+            args.b.display()
+        )?;
+    }
+    Ok(())
+}
+
+/// The false-colour image of the per-pixel relative squared error, in
+/// display values (to be written without tone mapping or sRGB encoding).
+fn heat_map(a: &Film, b: &Film) -> Film {
+    let mut out = Film::new(a.width(), a.height()).expect("the size of an image that was read");
+    for ((dst, &pa), &pb) in out.pixels_mut().iter_mut().zip(a.pixels()).zip(b.pixels()) {
+        *dst = if pa.is_finite() && pb.is_finite() {
+            ramp(relative_squared_error(pa, pb))
+        } else {
+            lucent::color::Color::new(1.0, 0.0, 1.0)
+        };
+    }
+    out
+}
+
+/// The colour for a relative squared error `e`: `log10 e` from −4 to 0
+/// mapped linearly through black, blue, cyan, yellow, red, white.
+fn ramp(e: f64) -> lucent::color::Color {
+    const STOPS: [[f32; 3]; 6] =
+        [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 1.0], [1.0, 1.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 1.0]];
+    let t = if e > 0.0 { ((e.log10() + 4.0) / 4.0).clamp(0.0, 1.0) as f32 } else { 0.0 };
+    let x = t * (STOPS.len() - 1) as f32;
+    let i = (x as usize).min(STOPS.len() - 2);
+    let f = x - i as f32;
+    let (c0, c1) = (lucent::color::Color::from_array(STOPS[i]), lucent::color::Color::from_array(STOPS[i + 1]));
+    c0 + (c1 - c0) * f
+}
