@@ -13,6 +13,7 @@ mod bench;
 mod bench_rays;
 mod cli;
 mod progress;
+mod sky;
 
 use clap::Parser;
 use cli::{Cli, Command, RenderArgs};
@@ -32,6 +33,7 @@ fn main() -> ExitCode {
         Command::Check { scene } => run_check(&scene),
         Command::Bench(args) => bench::run(&args),
         Command::BenchRays(args) => bench_rays::run(&args),
+        Command::Sky(args) => sky::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
