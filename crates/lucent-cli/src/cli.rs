@@ -5,7 +5,8 @@ use std::path::PathBuf;
 ///
 /// Scenes are TOML or JSON files (see docs/scene-format.md). Output format
 /// follows the extension: .png and .bmp are 8-bit, tone mapped and
-/// sRGB-encoded; .exr is linear 32-bit float radiance before tone mapping.
+/// sRGB-encoded; .exr (32-bit float) and .hdr (Radiance RGBE) are linear
+/// radiance before tone mapping.
 #[derive(Parser, Debug)]
 #[command(name = "lucent", version, about, long_about)]
 pub struct Cli {
@@ -31,6 +32,59 @@ pub enum Command {
     /// Compare an image with a reference image (MSE, relative MSE, largest
     /// error).
     Diff(crate::diff::DiffArgs),
+    /// Write a procedural environment map (daylight sky or photo studio)
+    /// as a linear .hdr or .exr equirectangular image.
+    Sky(SkyArgs),
+}
+
+/// Which procedural environment `lucent sky` writes.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SkyKind {
+    /// Blue sky gradient, darker ground, bright sun disk.
+    Sky,
+    /// Dark grey studio with large soft boxes and a floor gradient.
+    Studio,
+}
+
+impl SkyKind {
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            SkyKind::Sky => "sky",
+            SkyKind::Studio => "studio",
+        }
+    }
+}
+
+/// `lucent sky`: the image is equirectangular, +y up, its centre looking
+/// towards -z and u growing towards +x; azimuths are measured from -z
+/// towards +x.
+#[derive(Args, Debug)]
+pub struct SkyArgs {
+    /// Output image: .hdr (Radiance RGBE) or .exr (OpenEXR float).
+    #[arg(value_name = "OUT")]
+    pub output: PathBuf,
+    /// What to draw.
+    #[arg(long, value_enum, default_value_t = SkyKind::Sky)]
+    pub kind: SkyKind,
+    /// Width in pixels; the height is half of it.
+    #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(2..=65_536))]
+    pub width: u32,
+    /// Sun elevation above the horizon, degrees, -90 to 90 (sky only).
+    #[arg(long, default_value_t = 35.0, allow_negative_numbers = true)]
+    pub sun_elevation: f32,
+    /// Sun azimuth, degrees from -z towards +x (sky only).
+    #[arg(long, default_value_t = 45.0, allow_negative_numbers = true)]
+    pub sun_azimuth: f32,
+    /// Irradiance of the sun on a surface facing it (sky only).
+    #[arg(long, default_value_t = 8.0, allow_negative_numbers = true)]
+    pub sun_intensity: f32,
+    /// Angular radius of the sun disk, degrees (sky only).
+    #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
+    pub sun_radius: f32,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Values that override the scene file's `[render]` table.
@@ -82,7 +136,7 @@ pub struct RenderArgs {
     /// The scene file (.toml or .json); without one, the built-in showcase
     /// scene is rendered.
     pub scene: Option<PathBuf>,
-    /// Output image: .png, .bmp or .exr [default: the scene's name with .png,
+    /// Output image: .png, .bmp, .exr or .hdr [default: the scene's name with .png,
     /// in the current directory].
     #[arg(short, long)]
     pub output: Option<PathBuf>,

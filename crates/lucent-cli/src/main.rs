@@ -15,6 +15,7 @@ mod cli;
 mod diff;
 mod path_render;
 mod progress;
+mod sky;
 
 use clap::Parser;
 use cli::{Cli, Command, RenderArgs};
@@ -35,6 +36,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::run(&args),
         Command::BenchRays(args) => bench_rays::run(&args),
         Command::Diff(args) => diff::run(&args),
+        Command::Sky(args) => sky::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

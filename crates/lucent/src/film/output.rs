@@ -11,13 +11,17 @@ pub enum ImageFormat {
     Bmp,
     /// `.exr`: OpenEXR, linear 32-bit float radiance before tone mapping.
     Exr,
+    /// `.hdr`: Radiance RGBE, linear radiance before tone mapping (8-bit
+    /// mantissas with a shared exponent: about 1% precision; negative and
+    /// non-finite values are written as 0).
+    Hdr,
 }
 
 /// Problems writing an image.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
     /// The extension is not one lucent writes.
-    #[error("cannot write '{path}': {} (accepted: .png, .bmp, .exr)", describe_extension(.path))]
+    #[error("cannot write '{path}': {} (accepted: .png, .bmp, .exr, .hdr)", describe_extension(.path))]
     UnknownExtension {
         /// The output path.
         path: PathBuf,
@@ -55,6 +59,7 @@ impl ImageFormat {
             Some("png") => Ok(ImageFormat::Png),
             Some("bmp") => Ok(ImageFormat::Bmp),
             Some("exr") => Ok(ImageFormat::Exr),
+            Some("hdr") => Ok(ImageFormat::Hdr),
             _ => Err(OutputError::UnknownExtension { path: path.to_owned() }),
         }
     }
@@ -121,7 +126,8 @@ impl PendingImage {
         self.format
     }
 
-    /// Encode `film` and move it into place.
+    /// Encode `film` and move it into place (`tone_map` and `srgb` apply
+    /// to the 8-bit formats only).
     pub fn write(mut self, film: &Film, tone_map: ToneMap, srgb: bool) -> Result<(), OutputError> {
         let (w, h) = (film.width(), film.height());
         let path = self.path.clone();
@@ -142,6 +148,15 @@ impl PendingImage {
                     let buf = image::Rgb32FImage::from_raw(w, h, data).expect("buffer size matches the film");
                     image::DynamicImage::ImageRgb32F(buf)
                         .write_to(&mut out, image::ImageFormat::OpenExr)
+                        .map_err(encode)?;
+                }
+                ImageFormat::Hdr => {
+                    // RGBE stores no sign and no infinities.
+                    let clean = |v: f32| if v.is_finite() { v.max(0.0) } else { 0.0 };
+                    let data: Vec<image::Rgb<f32>> =
+                        film.pixels().iter().map(|c| image::Rgb([clean(c.x), clean(c.y), clean(c.z)])).collect();
+                    image::codecs::hdr::HdrEncoder::new(&mut out)
+                        .encode(&data, w as usize, h as usize)
                         .map_err(encode)?;
                 }
             }

@@ -1,28 +1,614 @@
 //! Environment lights: radiance arriving from infinitely far away.
+//!
+//! # The equirectangular (latitude–longitude) mapping
+//!
+//! An [`Environment::Image`] is a `width × height` image (usually
+//! `width = 2 height`) covering the whole sphere of directions. `+y` is up.
+//! A unit direction `d = (x, y, z)` in the environment's own frame (before
+//! its rotation, see below) has
+//!
+//! * polar angle `θ = acos(y)` from `+y`, and `v = θ / π`: `v = 0` (the top
+//!   row) is the zenith `+y`, `v = 1/2` the horizon, `v = 1` (the bottom
+//!   row) the nadir `−y`;
+//! * azimuth `φ = atan2(x, −z)` in `(−π, π]`, and `u = 1/2 + φ / (2π)`:
+//!   **the image centre (`u = 1/2`) looks towards `−z`**, `u` grows towards
+//!   `+x` (`u = 3/4` is `+x`, `u = 1/4` is `−x`) and the left and right edges
+//!   (`u = 0`, `u = 1`) are both `+z`.
+//!
+//! Conversely `d = (sin θ sin φ, cos θ, −sin θ cos φ)` with `θ = π v`,
+//! `φ = 2π (u − 1/2)`. A camera at the origin looking along `−z` with `+y`
+//! up therefore sees the middle of the image, the right way round (not
+//! mirrored). Pixel `(i, j)` (column `i` from the left, row `j` from the top)
+//! covers `u ∈ [i/w, (i+1)/w)`, `v ∈ [j/h, (j+1)/h)`.
+//!
+//! A rotation of `R` degrees turns the environment about `+y`
+//! counter-clockwise seen from above (the right-hand rule): what the image
+//! centre shows moves from `−z` to `(−sin R, 0, −cos R)`.
+//!
+//! **Lookup** is nearest-pixel: the radiance is piecewise constant over the
+//! pixels, exactly the function the importance-sampling distribution is
+//! built from, so sampling is consistent with [`Environment::le`].
+//!
+//! **Importance sampling** (PBRT 4th ed., §12.5.2, in the lat-long form of
+//! PBRT 3rd ed. §14.2.4): a [`PiecewiseConstant2D`] over `(u, v)` with
+//! pixel values `luminance · sin θ` (θ at the pixel's centre row), so that
+//! directions are chosen by the energy they carry; since
+//! `dω = sin θ dθ dφ = 2π² sin θ du dv`, the solid-angle density is
+//! `p(ω) = p(u, v) / (2π² sin θ)`.
 
-use crate::color::Color;
-use crate::geometry::Vec3;
+use super::area::uniform_sphere;
+use super::emitter::{LiSample, LightSampleContext};
+use crate::color::{luminance, Color};
+use crate::film::check_image_size;
+use crate::geometry::{Vec2, Vec3};
+use crate::sampling::PiecewiseConstant2D;
+use std::f32::consts::PI;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Light from every direction at infinity.
 #[derive(Clone, Debug)]
 pub enum Environment {
     /// The same radiance from every direction.
     Constant(Color),
+    /// An equirectangular image (see the module docs for the mapping).
+    Image(Arc<EnvironmentMap>),
+}
+
+/// Why an environment image cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum EnvironmentError {
+    /// The file cannot be opened or read.
+    #[error("cannot read environment map '{path}': {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The extension is neither `.hdr` nor `.exr`.
+    #[error("cannot read environment map '{path}': unknown extension (accepted: .hdr, .exr)")]
+    UnknownExtension {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The decoder rejected the file.
+    #[error("cannot read environment map '{path}': {source}")]
+    Decode {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: image::ImageError,
+    },
+    /// The image is empty or too large.
+    #[error("environment map '{path}': {source}")]
+    Size {
+        /// The file (or `<memory>`).
+        path: PathBuf,
+        /// What is wrong with the size.
+        source: crate::film::FilmError,
+    },
+    /// The pixel buffer does not have `width × height` entries.
+    #[error("environment map '{path}': {len} pixels given for a {width}×{height} image")]
+    PixelCount {
+        /// The file (or `<memory>`).
+        path: PathBuf,
+        /// Width.
+        width: u32,
+        /// Height.
+        height: u32,
+        /// Pixels given.
+        len: usize,
+    },
+    /// A pixel is NaN or infinite.
+    #[error("environment map '{path}': pixel ({x}, {y}) is not a finite colour")]
+    NonFinite {
+        /// The file (or `<memory>`).
+        path: PathBuf,
+        /// Column.
+        x: u32,
+        /// Row from the top.
+        y: u32,
+    },
+    /// The scale is negative or not finite.
+    #[error("environment map scale must be a finite number ≥ 0, got {0}")]
+    Scale(f32),
+    /// The rotation is not finite.
+    #[error("environment map rotation must be a finite number of degrees, got {0}")]
+    Rotation(f32),
+}
+
+/// An equirectangular environment image with its sampling distribution.
+#[derive(Clone)]
+pub struct EnvironmentMap {
+    width: u32,
+    height: u32,
+    /// Radiance, scale applied, row by row from the top (`v = 0`).
+    pixels: Vec<Color>,
+    /// `(cos R, sin R)` of the rotation about `+y`.
+    rotation: (f32, f32),
+    distribution: PiecewiseConstant2D,
+}
+
+impl std::fmt::Debug for EnvironmentMap {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("EnvironmentMap")
+            .field("width", &self.width)
+            .field("height", &self.height)
+            .field("rotation", &self.rotation)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The unit direction (in the environment's own frame) at `(u, v)` of the
+/// equirectangular mapping described in the module docs.
+pub fn equirect_direction(uv: Vec2) -> Vec3 {
+    let theta = PI * uv.y;
+    let phi = 2.0 * PI * (uv.x - 0.5);
+    let (sin_t, cos_t) = theta.sin_cos();
+    let (sin_p, cos_p) = phi.sin_cos();
+    Vec3::new(sin_t * sin_p, cos_t, -sin_t * cos_p)
+}
+
+/// The `(u, v)` in `[0, 1]²` of unit direction `d` (in the environment's
+/// own frame), the inverse of [`equirect_direction`].
+pub fn equirect_uv(d: Vec3) -> Vec2 {
+    // atan2 rather than acos(y): well conditioned near the poles too.
+    let theta = (d.x * d.x + d.z * d.z).sqrt().atan2(d.y);
+    let phi = d.x.atan2(-d.z);
+    Vec2::new((0.5 + phi / (2.0 * PI)).clamp(0.0, 1.0), (theta / PI).clamp(0.0, 1.0))
+}
+
+impl EnvironmentMap {
+    /// A map from `pixels` (linear RGB, row by row from the top), multiplied
+    /// by `scale` and turned by `rotation` degrees about `+y`. Negative
+    /// components are clamped to zero; non-finite ones are refused.
+    pub fn new(
+        width: u32,
+        height: u32,
+        pixels: Vec<Color>,
+        scale: f32,
+        rotation: f32,
+    ) -> Result<Self, EnvironmentError> {
+        Self::build(Path::new("<memory>"), width, height, pixels, scale, rotation)
+    }
+
+    fn build(
+        path: &Path,
+        width: u32,
+        height: u32,
+        mut pixels: Vec<Color>,
+        scale: f32,
+        rotation: f32,
+    ) -> Result<Self, EnvironmentError> {
+        if !(scale >= 0.0 && scale.is_finite()) {
+            return Err(EnvironmentError::Scale(scale));
+        }
+        if !rotation.is_finite() {
+            return Err(EnvironmentError::Rotation(rotation));
+        }
+        check_image_size(width, height).map_err(|source| EnvironmentError::Size { path: path.to_owned(), source })?;
+        if pixels.len() != width as usize * height as usize {
+            return Err(EnvironmentError::PixelCount { path: path.to_owned(), width, height, len: pixels.len() });
+        }
+        for (i, c) in pixels.iter_mut().enumerate() {
+            if !c.is_finite() {
+                let (x, y) = ((i % width as usize) as u32, (i / width as usize) as u32);
+                return Err(EnvironmentError::NonFinite { path: path.to_owned(), x, y });
+            }
+            *c = c.max(Color::ZERO) * scale;
+        }
+        let (w, h) = (width as usize, height as usize);
+        let weights: Vec<f32> = pixels
+            .iter()
+            .enumerate()
+            .map(|(i, &c)| {
+                let theta = PI * ((i / w) as f32 + 0.5) / h as f32;
+                luminance(c) * theta.sin()
+            })
+            .collect();
+        let distribution = PiecewiseConstant2D::new(&weights, w, h);
+        let r = rotation.to_radians();
+        Ok(Self { width, height, pixels, rotation: (r.cos(), r.sin()), distribution })
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// The radiance of pixel `(x, y)` (scale applied; row 0 at the top).
+    pub fn pixel(&self, x: u32, y: u32) -> Color {
+        self.pixels[y as usize * self.width as usize + x as usize]
+    }
+
+    /// World direction → the map's own frame: turn by `−R` about `+y`.
+    #[inline]
+    fn to_local(&self, d: Vec3) -> Vec3 {
+        let (c, s) = self.rotation;
+        Vec3::new(c * d.x - s * d.z, d.y, s * d.x + c * d.z)
+    }
+
+    /// The map's own frame → world: turn by `R` about `+y` (right-hand rule).
+    #[inline]
+    fn to_world(&self, d: Vec3) -> Vec3 {
+        let (c, s) = self.rotation;
+        Vec3::new(c * d.x + s * d.z, d.y, -s * d.x + c * d.z)
+    }
+
+    /// The pixel at `(u, v)`.
+    #[inline]
+    fn lookup(&self, uv: Vec2) -> Color {
+        let x = ((uv.x * self.width as f32) as u32).min(self.width - 1);
+        let y = ((uv.y * self.height as f32) as u32).min(self.height - 1);
+        self.pixel(x, y)
+    }
+
+    /// Radiance seen along world direction `dir`.
+    pub fn le(&self, dir: Vec3) -> Color {
+        self.lookup(equirect_uv(self.to_local(dir)))
+    }
+
+    /// Total radiant power (luminance) falling on a disk of radius `r`:
+    /// `Φ = π r² Σ L_i Ω_i`, with `Ω_i = (2π / w)(cos θ₀ − cos θ₁)` the solid
+    /// angle of pixel `i` (PBRT 4th ed., §12.5.2, for a lat-long map).
+    pub fn power(&self, r: f32) -> f32 {
+        let (w, h) = (self.width as usize, self.height as usize);
+        let mut sum = 0.0f64;
+        for y in 0..h {
+            let t0 = PI as f64 * y as f64 / h as f64;
+            let t1 = PI as f64 * (y + 1) as f64 / h as f64;
+            let omega = 2.0 * std::f64::consts::PI / w as f64 * (t0.cos() - t1.cos());
+            let row: f64 = self.pixels[y * w..(y + 1) * w].iter().map(|&c| luminance(c) as f64).sum();
+            sum += row * omega;
+        }
+        (std::f64::consts::PI * (r as f64) * (r as f64) * sum) as f32
+    }
+
+    fn sample_li(&self, u: Vec2) -> Option<LiSample> {
+        let (uv, pdf_uv) = self.distribution.sample(u);
+        if pdf_uv.is_nan() || pdf_uv <= 0.0 {
+            return None;
+        }
+        let sin_theta = (PI * uv.y).sin();
+        if sin_theta.is_nan() || sin_theta <= 0.0 {
+            return None;
+        }
+        let pdf = pdf_uv / (2.0 * PI * PI * sin_theta);
+        let wi = self.to_world(equirect_direction(uv));
+        let l = self.lookup(uv);
+        (l != Color::ZERO && pdf.is_finite()).then_some(LiSample { l, wi, pdf, p_light: None })
+    }
+
+    fn pdf_li(&self, wi: Vec3) -> f32 {
+        let uv = equirect_uv(self.to_local(wi));
+        let sin_theta = (PI * uv.y).sin();
+        if sin_theta.is_nan() || sin_theta <= 0.0 {
+            return 0.0;
+        }
+        let pdf = self.distribution.pdf(uv) / (2.0 * PI * PI * sin_theta);
+        if pdf.is_finite() {
+            pdf
+        } else {
+            0.0
+        }
+    }
 }
 
 impl Environment {
-    /// TEMPORARY stub until image environments land.
-    pub fn from_file(path: &std::path::Path, scale: f32, rotation: f32) -> Result<Self, String> {
-        let _ = (path, scale, rotation);
-        Err("image environments are not supported yet".into())
+    /// An environment image read from a Radiance `.hdr` or OpenEXR `.exr`
+    /// file (chosen by extension), multiplied by `scale` and turned by
+    /// `rotation` degrees about `+y` (see the module docs).
+    pub fn from_file(path: impl AsRef<Path>, scale: f32, rotation: f32) -> Result<Self, EnvironmentError> {
+        let path = path.as_ref();
+        if !(scale >= 0.0 && scale.is_finite()) {
+            return Err(EnvironmentError::Scale(scale));
+        }
+        if !rotation.is_finite() {
+            return Err(EnvironmentError::Rotation(rotation));
+        }
+        let (width, height, pixels) = read_float_image(path)?;
+        Ok(Environment::Image(Arc::new(EnvironmentMap::build(path, width, height, pixels, scale, rotation)?)))
     }
 
     /// Radiance arriving from direction `-dir`, i.e. seen by a ray
     /// travelling along unit `dir` that escapes the scene.
     pub fn le(&self, dir: Vec3) -> Color {
-        let _ = dir;
         match self {
             Environment::Constant(c) => *c,
+            Environment::Image(map) => map.le(dir),
         }
+    }
+
+    /// Sample an incident direction with uniform `u` in `[0, 1)²`: uniform
+    /// over the sphere (pdf `1/4π`) for a constant environment, by the
+    /// image's luminance for an image. `None` when nothing arrives.
+    pub fn sample_li(&self, ctx: &LightSampleContext, u: Vec2) -> Option<LiSample> {
+        let _ = ctx;
+        match self {
+            Environment::Constant(c) => {
+                if *c == Color::ZERO {
+                    return None;
+                }
+                Some(LiSample { l: *c, wi: uniform_sphere(u), pdf: 1.0 / (4.0 * PI), p_light: None })
+            }
+            Environment::Image(map) => map.sample_li(u),
+        }
+    }
+
+    /// The solid-angle pdf with which [`Environment::sample_li`] picks the
+    /// world direction `wi`.
+    pub fn pdf_li(&self, wi: Vec3) -> f32 {
+        match self {
+            Environment::Constant(_) => 1.0 / (4.0 * PI),
+            Environment::Image(map) => map.pdf_li(wi),
+        }
+    }
+
+    /// Power (luminance) delivered into a scene of bounding-sphere radius
+    /// `r`: PBRT 4th ed. §12.5.1 takes the radiance through a disk of area
+    /// `π r²` from every direction, `Φ = π r² · 4π · lum(L)` for a constant
+    /// environment.
+    pub fn power(&self, r: f32) -> f32 {
+        match self {
+            Environment::Constant(c) => PI * r * r * 4.0 * PI * luminance(*c),
+            Environment::Image(map) => map.power(r),
+        }
+    }
+}
+
+/// Read a float RGB image; the decoder is chosen by extension and the size
+/// is checked before the pixels are allocated.
+fn read_float_image(path: &Path) -> Result<(u32, u32, Vec<Color>), EnvironmentError> {
+    use image::ImageDecoder;
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let is_hdr = match ext.as_deref() {
+        Some("hdr") => true,
+        Some("exr") => false,
+        _ => return Err(EnvironmentError::UnknownExtension { path: path.to_owned() }),
+    };
+    let file = std::fs::File::open(path).map_err(|source| EnvironmentError::Io { path: path.to_owned(), source })?;
+    let reader = std::io::BufReader::new(file);
+    let decode = |source| EnvironmentError::Decode { path: path.to_owned(), source };
+    let size = |source| EnvironmentError::Size { path: path.to_owned(), source };
+    let image = if is_hdr {
+        let decoder = image::codecs::hdr::HdrDecoder::new(reader).map_err(decode)?;
+        let (w, h) = decoder.dimensions();
+        check_image_size(w, h).map_err(size)?;
+        image::DynamicImage::from_decoder(decoder).map_err(decode)?
+    } else {
+        let decoder = image::codecs::openexr::OpenExrDecoder::new(reader).map_err(decode)?;
+        let (w, h) = decoder.dimensions();
+        check_image_size(w, h).map_err(size)?;
+        image::DynamicImage::from_decoder(decoder).map_err(decode)?
+    };
+    let rgb = image.into_rgb32f();
+    let (w, h) = rgb.dimensions();
+    let pixels = rgb.pixels().map(|p| Color::new(p[0], p[1], p[2])).collect();
+    Ok((w, h, pixels))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::film::{Film, PendingImage, ToneMap};
+    use crate::sampling::Pcg32;
+
+    const W: u32 = 64;
+    const H: u32 = 32;
+
+    /// A dim background with a bright patch and a coloured band.
+    fn synthetic() -> Vec<Color> {
+        let mut px = vec![Color::new(0.1, 0.12, 0.15); (W * H) as usize];
+        for y in 6..10 {
+            for x in 40..46 {
+                px[(y * W + x) as usize] = Color::new(50.0, 40.0, 30.0);
+            }
+        }
+        for x in 0..W {
+            px[(20 * W + x) as usize] = Color::new(0.0, 2.0, 0.0);
+        }
+        px
+    }
+
+    /// `Σ_i L_i ∫_{pixel i} g(ω) dω`, integrating `g` over each pixel with
+    /// an 8 × 8 midpoint rule in `(u, v)` (`dω = 2π² sin θ du dv`).
+    fn pixel_sum(map: &EnvironmentMap, g: impl Fn(Vec3) -> f32) -> Vec3 {
+        let (w, h) = (map.width(), map.height());
+        let k = 8;
+        let mut total = glam::DVec3::ZERO;
+        for y in 0..h {
+            for x in 0..w {
+                let mut acc = 0.0f64;
+                for j in 0..k {
+                    for i in 0..k {
+                        let uv = Vec2::new(
+                            (x as f32 + (i as f32 + 0.5) / k as f32) / w as f32,
+                            (y as f32 + (j as f32 + 0.5) / k as f32) / h as f32,
+                        );
+                        let d = map.to_world(equirect_direction(uv));
+                        let jac = 2.0 * PI * PI * (PI * uv.y).sin() / (w * h) as f32 / (k * k) as f32;
+                        acc += (g(d) * jac) as f64;
+                    }
+                }
+                total += map.pixel(x, y).as_dvec3() * acc;
+            }
+        }
+        total.as_vec3()
+    }
+
+    /// MC estimate of `∫ Le g dω` with `sample_li`: (mean, standard error of
+    /// the first channel). Checks `pdf_li` against every sample's pdf.
+    fn estimate(env: &Environment, g: impl Fn(Vec3) -> f32, m: usize) -> (Vec3, f32) {
+        let ctx = LightSampleContext { p: Vec3::ZERO, n: Vec3::ZERO };
+        let mut rng = Pcg32::new(17, 3);
+        let mut sum = glam::DVec3::ZERO;
+        let mut sum2 = 0.0f64;
+        for _ in 0..m {
+            if let Some(s) = env.sample_li(&ctx, Vec2::new(rng.uniform(), rng.uniform())) {
+                assert!(s.p_light.is_none());
+                let pdf = env.pdf_li(s.wi);
+                assert!((pdf - s.pdf).abs() <= 2e-3 * s.pdf, "pdf_li {pdf} vs sample {}", s.pdf);
+                assert_eq!(env.le(s.wi), s.l);
+                let x = (s.l * g(s.wi) / s.pdf).as_dvec3();
+                sum += x;
+                sum2 += x.x * x.x;
+            }
+        }
+        let mean = sum / m as f64;
+        let var = (sum2 / m as f64 - mean.x * mean.x).max(0.0);
+        (mean.as_vec3(), (var / m as f64).sqrt() as f32)
+    }
+
+    #[test]
+    fn image_sampling_estimates_integrals_of_the_pixels() {
+        let env = Environment::Image(Arc::new(EnvironmentMap::new(W, H, synthetic(), 1.5, 30.0).unwrap()));
+        let Environment::Image(map) = &env else { unreachable!() };
+        // ∫ Le dω: importance sampling by luminance makes this nearly exact.
+        let want = pixel_sum(map, |_| 1.0);
+        let (got, se) = estimate(&env, |_| 1.0, 100_000);
+        assert!((got - want).abs().max_element() <= 5.0 * se + 0.01 * want.max_element(), "{got} vs {want}");
+        // Irradiance at a tilted normal.
+        let n = Vec3::new(0.3, 0.8, -0.5).normalize();
+        let want = pixel_sum(map, |d| d.dot(n).max(0.0));
+        let (got, se) = estimate(&env, |d| d.dot(n).max(0.0), 100_000);
+        assert!((got - want).abs().max_element() <= 5.0 * se + 0.01 * want.max_element(), "{got} vs {want}");
+        // Total power: the same pixel integral through a unit disk.
+        let phi = pixel_sum(map, |_| 1.0);
+        assert!((map.power(1.0) - PI * luminance(phi)).abs() < 1e-3 * map.power(1.0));
+    }
+
+    #[test]
+    fn image_pdf_integrates_to_one() {
+        let env = Environment::Image(Arc::new(EnvironmentMap::new(W, H, synthetic(), 1.0, -75.0).unwrap()));
+        // Midpoint rule in (u, v) on a grid finer than the pixels.
+        let (nu, nv) = (512, 256);
+        let mut sum = 0.0f64;
+        for j in 0..nv {
+            for i in 0..nu {
+                let uv = Vec2::new((i as f32 + 0.5) / nu as f32, (j as f32 + 0.5) / nv as f32);
+                let d = equirect_direction(uv);
+                let jac = 2.0 * PI * PI * (PI * uv.y).sin();
+                // Any rotation: integrate over world directions.
+                sum += (env.pdf_li(d) * jac) as f64;
+            }
+        }
+        let integral = sum / (nu * nv) as f64;
+        assert!((integral - 1.0).abs() < 2e-3, "{integral}");
+    }
+
+    #[test]
+    fn le_follows_the_documented_mapping() {
+        let px = synthetic();
+        let map = EnvironmentMap::new(W, H, px.clone(), 1.0, 0.0).unwrap();
+        // Every pixel centre round-trips.
+        for y in 0..H {
+            for x in 0..W {
+                let uv = Vec2::new((x as f32 + 0.5) / W as f32, (y as f32 + 0.5) / H as f32);
+                let d = equirect_direction(uv);
+                assert!((equirect_uv(d) - uv).length() < 1e-5, "{uv} -> {d} -> {}", equirect_uv(d));
+                assert_eq!(map.le(d), px[(y * W + x) as usize]);
+            }
+        }
+        // The named directions.
+        let uv = |d: Vec3| equirect_uv(d.normalize());
+        assert!((uv(-Vec3::Z) - Vec2::new(0.5, 0.5)).length() < 1e-6, "image centre looks at -z");
+        assert!((uv(Vec3::X) - Vec2::new(0.75, 0.5)).length() < 1e-6, "u grows towards +x");
+        assert!((uv(-Vec3::X) - Vec2::new(0.25, 0.5)).length() < 1e-6);
+        assert_eq!(uv(Vec3::Y).y, 0.0, "v = 0 is the zenith");
+        assert_eq!(uv(-Vec3::Y).y, 1.0);
+        assert!(uv(Vec3::new(0.0, 0.5, -1.0)).y < 0.5, "above the horizon is the upper half");
+        // Rotation by R turns what the centre shows to (−sin R, 0, −cos R).
+        let mut marked = vec![Color::ZERO; (W * H) as usize];
+        marked[((H / 2) * W + W / 2) as usize] = Color::ONE;
+        let rot = EnvironmentMap::new(W, H, marked, 1.0, 90.0).unwrap();
+        let a = 0.5f32 * PI / W as f32; // inside the pixel right of centre
+                                        // Local azimuth a maps to world (sin(a − R), ·, −cos(a − R)).
+        let probe = |a: f32| Vec3::new((a - 90f32.to_radians()).sin(), -0.01, -(a - 90f32.to_radians()).cos());
+        assert_eq!(rot.le(probe(a)), Color::ONE);
+        assert!((probe(0.0) - Vec3::new(-1.0, -0.01, 0.0)).length() < 1e-6);
+        assert_eq!(rot.le(-Vec3::Z - 0.01 * Vec3::Y), Color::ZERO);
+    }
+
+    #[test]
+    fn constant_environment_samples_the_sphere_uniformly() {
+        let env = Environment::Constant(Color::new(1.0, 2.0, 3.0));
+        let (got, se) = estimate(&env, |_| 1.0, 10_000);
+        assert!((got.x - 4.0 * PI).abs() <= 5.0 * se + 1e-3, "{got}");
+        assert_eq!(env.pdf_li(Vec3::X), 1.0 / (4.0 * PI));
+        let lum = luminance(Color::new(1.0, 2.0, 3.0));
+        assert!((env.power(2.0) - PI * 4.0 * 4.0 * PI * lum).abs() < 1e-3);
+        let ctx = LightSampleContext { p: Vec3::ZERO, n: Vec3::Y };
+        assert!(Environment::Constant(Color::ZERO).sample_li(&ctx, Vec2::splat(0.5)).is_none());
+    }
+
+    #[test]
+    fn black_image_gives_no_samples_and_no_power() {
+        let map = EnvironmentMap::new(8, 4, vec![Color::ZERO; 32], 1.0, 0.0).unwrap();
+        let env = Environment::Image(Arc::new(map));
+        let ctx = LightSampleContext { p: Vec3::ZERO, n: Vec3::Y };
+        assert!(env.sample_li(&ctx, Vec2::splat(0.3)).is_none());
+        assert_eq!(env.power(1.0), 0.0);
+    }
+
+    #[test]
+    fn files_written_by_lucent_read_back() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut film = Film::new(W, H).unwrap();
+        film.pixels_mut().copy_from_slice(&synthetic());
+        for ext in ["exr", "hdr"] {
+            let path = dir.path().join(format!("env.{ext}"));
+            PendingImage::create(&path).unwrap().write(&film, ToneMap::default(), false).unwrap();
+            let Environment::Image(map) = Environment::from_file(&path, 2.0, 0.0).unwrap() else {
+                panic!("an image environment")
+            };
+            assert_eq!((map.width(), map.height()), (W, H));
+            for (i, &want) in film.pixels().iter().enumerate() {
+                let got = map.pixel(i as u32 % W, i as u32 / W) / 2.0;
+                // EXR is exact; RGBE keeps 8 bits of mantissa.
+                let tol = if ext == "exr" { 0.0 } else { 0.01 * want.max_element() };
+                assert!((got - want).abs().max_element() <= tol, "{ext} pixel {i}: {got} vs {want}");
+            }
+        }
+    }
+
+    #[test]
+    fn bad_files_give_clear_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let missing = dir.path().join("missing.hdr");
+        let e = Environment::from_file(&missing, 1.0, 0.0).unwrap_err();
+        assert!(matches!(e, EnvironmentError::Io { .. }), "{e:?}");
+        assert!(e.to_string().contains("missing.hdr"), "{e}");
+        let png = dir.path().join("env.png");
+        std::fs::write(&png, b"x").unwrap();
+        let e = Environment::from_file(&png, 1.0, 0.0).unwrap_err();
+        assert!(e.to_string().contains("accepted: .hdr, .exr"), "{e}");
+        for name in ["garbage.hdr", "garbage.exr"] {
+            let p = dir.path().join(name);
+            std::fs::write(&p, b"#?RADIANCE\nthis is not an image\n").unwrap();
+            let e = Environment::from_file(&p, 1.0, 0.0).unwrap_err();
+            assert!(matches!(e, EnvironmentError::Decode { .. }), "{name}: {e:?}");
+            assert!(e.to_string().contains(name), "{e}");
+        }
+        // A header claiming a huge image is refused before allocating.
+        let huge = dir.path().join("huge.hdr");
+        std::fs::write(&huge, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 100000 +X 100000\n").unwrap();
+        let e = Environment::from_file(&huge, 1.0, 0.0).unwrap_err();
+        assert!(e.to_string().contains("too large") || matches!(e, EnvironmentError::Decode { .. }), "{e}");
+        assert!(matches!(Environment::from_file(&missing, -1.0, 0.0), Err(EnvironmentError::Scale(_))));
+        assert!(matches!(Environment::from_file(&missing, 1.0, f32::NAN), Err(EnvironmentError::Rotation(_))));
+        let mut px = vec![Color::ONE; 8];
+        px[5] = Color::new(f32::NAN, 0.0, 0.0);
+        let e = EnvironmentMap::new(4, 2, px, 1.0, 0.0).unwrap_err();
+        assert!(e.to_string().contains("pixel (1, 1)"), "{e}");
+        assert!(matches!(
+            EnvironmentMap::new(4, 2, vec![Color::ONE; 7], 1.0, 0.0),
+            Err(EnvironmentError::PixelCount { .. })
+        ));
     }
 }

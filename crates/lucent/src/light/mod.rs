@@ -11,10 +11,11 @@ mod area;
 mod emitter;
 mod environment;
 mod set;
+pub mod sky;
 
-pub use area::{AreaLight, AreaShape};
+pub use area::{triangle_solid_angle, AreaLight, AreaShape};
 pub use emitter::{Emitter, LiSample, LightSampleContext};
-pub use environment::Environment;
+pub use environment::{equirect_direction, equirect_uv, Environment, EnvironmentError, EnvironmentMap};
 pub use set::LightSet;
 
 use crate::color::Color;

@@ -4,11 +4,13 @@
 //! scene seed and the pixel's coordinates alone, so an image does not depend
 //! on how pixels are distributed over threads.
 
+mod distribution;
 mod pattern;
 mod rng;
 mod sampler;
 mod warp;
 
+pub use distribution::{AliasTable, PiecewiseConstant1D, PiecewiseConstant2D};
 pub use pattern::{stratified_2d, PixelSampler};
 pub use rng::{mix_seed, Pcg32};
 pub use sampler::{PathSampler, SamplerKind};

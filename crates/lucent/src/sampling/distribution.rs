@@ -1,0 +1,376 @@
+//! Sampling tabulated distributions: piecewise-constant densities in 1D and
+//! 2D (PBRT 4th ed., §A.5.1 and §A.5.2) and discrete choice with Vose's alias
+//! method (PBRT 4th ed., §A.1; M. D. Vose, "A Linear Algorithm for Generating
+//! Random Numbers with a Given Distribution", IEEE TSE 17(9), 1991).
+//!
+//! **Zero functions.** A function that is zero everywhere (or has no
+//! entries) cannot be normalised. All three types then fall back to the
+//! *uniform* distribution over their domain, so sampling never fails and the
+//! returned pdf is always the density actually used. Negative entries count
+//! by their absolute value and non-finite entries count as zero.
+
+use glam::Vec2;
+
+/// Clean up one tabulated value: absolute value, non-finite → 0.
+#[inline]
+fn sanitize(v: f32) -> f32 {
+    if v.is_finite() {
+        v.abs()
+    } else {
+        0.0
+    }
+}
+
+/// A piecewise-constant density on `[0, 1]` with `n` equal bins, sampled by
+/// inverting its cumulative distribution (PBRT 4th ed., §A.5.1).
+///
+/// With bin values `f_i`, the integral is `I = Σ f_i / n`, the density is
+/// `p(x) = f_i / I` on bin `i`, and the CDF is the running sum
+/// `P(i) = Σ_{j<i} f_j / (n I)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PiecewiseConstant1D {
+    /// Bin values (absolute, finite); all ones for a zero function.
+    func: Vec<f32>,
+    /// `n + 1` entries from 0 to 1.
+    cdf: Vec<f32>,
+    /// `∫ f` over `[0, 1]` of the function as given (0 for a zero function).
+    integral: f32,
+    /// The integral of `func` as stored (1 for the uniform fallback).
+    norm: f32,
+}
+
+impl PiecewiseConstant1D {
+    /// The density proportional to `f` (see the module docs for zero
+    /// functions).
+    pub fn new(f: &[f32]) -> Self {
+        let mut func: Vec<f32> = f.iter().map(|&v| sanitize(v)).collect();
+        if func.is_empty() {
+            func.push(0.0);
+        }
+        let n = func.len();
+        // Accumulate in f64 so that long tables keep their small entries.
+        let mut cdf = Vec::with_capacity(n + 1);
+        cdf.push(0.0f64);
+        for &v in &func {
+            let last = *cdf.last().expect("non-empty");
+            cdf.push(last + v as f64 / n as f64);
+        }
+        let total = cdf[n];
+        let (integral, norm) = if total > 0.0 && total.is_finite() {
+            for c in &mut cdf {
+                *c /= total;
+            }
+            (total as f32, total as f32)
+        } else {
+            // Uniform fallback.
+            func.iter_mut().for_each(|v| *v = 1.0);
+            for (i, c) in cdf.iter_mut().enumerate() {
+                *c = i as f64 / n as f64;
+            }
+            (0.0, 1.0)
+        };
+        let mut cdf: Vec<f32> = cdf.into_iter().map(|c| c as f32).collect();
+        cdf[n] = 1.0;
+        Self { func, cdf, integral, norm }
+    }
+
+    /// Number of bins.
+    pub fn len(&self) -> usize {
+        self.func.len()
+    }
+
+    /// Whether there are no bins (never: an empty table gets one zero bin).
+    pub fn is_empty(&self) -> bool {
+        self.func.is_empty()
+    }
+
+    /// The integral of the function over `[0, 1]` as given: 0 for a zero
+    /// function (which is sampled uniformly).
+    pub fn integral(&self) -> f32 {
+        self.integral
+    }
+
+    /// Sample the density with a uniform `u` in `[0, 1)`: the point `x` in
+    /// `[0, 1)`, its density, and the index of its bin.
+    pub fn sample(&self, u: f32) -> (f32, f32, usize) {
+        let n = self.func.len();
+        // The last bin whose CDF start is ≤ u; zero-width bins are skipped
+        // because the next bin starts at the same value.
+        let o = self.cdf.partition_point(|&c| c <= u).saturating_sub(1).min(n - 1);
+        let width = self.cdf[o + 1] - self.cdf[o];
+        let mut du = u - self.cdf[o];
+        if width > 0.0 {
+            du /= width;
+        }
+        let x = ((o as f32 + du.clamp(0.0, 1.0)) / n as f32).min(1.0 - f32::EPSILON / 2.0);
+        (x, self.func[o] / self.norm, o)
+    }
+
+    /// The density at `x` (clamped into `[0, 1]`).
+    pub fn pdf(&self, x: f32) -> f32 {
+        self.func[self.bin(x)] / self.norm
+    }
+
+    /// The bin containing `x`.
+    #[inline]
+    fn bin(&self, x: f32) -> usize {
+        let n = self.func.len();
+        ((x * n as f32).max(0.0) as usize).min(n - 1)
+    }
+}
+
+/// A piecewise-constant density on `[0, 1]²` over an `nu × nv` grid, sampled
+/// as a marginal density in `v` and a conditional density in `u` for the
+/// chosen row (PBRT 4th ed., §A.5.2): `p(u, v) = p(v) · p(u | v)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PiecewiseConstant2D {
+    conditional: Vec<PiecewiseConstant1D>,
+    marginal: PiecewiseConstant1D,
+}
+
+impl PiecewiseConstant2D {
+    /// The density proportional to `f`, given row by row: `f[v * nu + u]`,
+    /// `v` (the row) in `0..nv`, `u` (the column) in `0..nu`.
+    ///
+    /// # Panics
+    /// If `f.len() != nu * nv` or either size is zero.
+    pub fn new(f: &[f32], nu: usize, nv: usize) -> Self {
+        assert!(nu > 0 && nv > 0 && f.len() == nu * nv, "table size {} is not {nu} × {nv}", f.len());
+        let conditional: Vec<PiecewiseConstant1D> = f.chunks_exact(nu).map(PiecewiseConstant1D::new).collect();
+        let rows: Vec<f32> = conditional.iter().map(|c| c.integral()).collect();
+        let marginal = PiecewiseConstant1D::new(&rows);
+        Self { conditional, marginal }
+    }
+
+    /// The integral of the function over `[0, 1]²` (0 for a zero function,
+    /// which is sampled uniformly).
+    pub fn integral(&self) -> f32 {
+        self.marginal.integral()
+    }
+
+    /// Sample a point with uniform `u` in `[0, 1)²` (`u.y` picks the row,
+    /// `u.x` the column): the point and its density.
+    pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
+        let (v, pdf_v, row) = self.marginal.sample(u.y);
+        let (x, pdf_u, _) = self.conditional[row].sample(u.x);
+        (Vec2::new(x, v), pdf_v * pdf_u)
+    }
+
+    /// The density at `uv`: exactly what [`PiecewiseConstant2D::sample`]
+    /// returns for a point there.
+    pub fn pdf(&self, uv: Vec2) -> f32 {
+        let row = self.marginal.bin(uv.y);
+        self.marginal.pdf(uv.y) * self.conditional[row].pdf(uv.x)
+    }
+}
+
+/// Choosing one of `n` items with probabilities proportional to weights, in
+/// constant time per choice: Vose's alias method (PBRT 4th ed., §A.1.4).
+///
+/// Each of the `n` slots holds a probability `q_i` and an alias `a_i`: pick
+/// slot `i` uniformly, keep `i` with probability `q_i`, otherwise take `a_i`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AliasTable {
+    /// Chance of keeping slot `i`.
+    keep: Vec<f32>,
+    /// The other item of slot `i`.
+    alias: Vec<u32>,
+    /// The normalised probabilities.
+    pmf: Vec<f32>,
+}
+
+impl AliasTable {
+    /// A table for `weights` (see the module docs for zero weights). An empty
+    /// `weights` gives an empty table, which samples nothing.
+    pub fn new(weights: &[f32]) -> Self {
+        let n = weights.len();
+        let w: Vec<f64> = weights.iter().map(|&v| sanitize(v) as f64).collect();
+        let total: f64 = w.iter().sum();
+        let pmf64: Vec<f64> = if total > 0.0 && total.is_finite() {
+            w.iter().map(|v| v / total).collect()
+        } else {
+            vec![1.0 / n as f64; n]
+        };
+        // Scaled probabilities: an item with p·n < 1 is "small" and fills
+        // its slot up with a "large" one (Vose's two work lists).
+        let mut keep = vec![1.0f64; n];
+        let mut alias: Vec<u32> = (0..n as u32).collect();
+        let mut scaled: Vec<f64> = pmf64.iter().map(|p| p * n as f64).collect();
+        let (mut small, mut large): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| scaled[i] < 1.0);
+        while let (Some(&s), Some(&l)) = (small.last(), large.last()) {
+            small.pop();
+            large.pop();
+            keep[s] = scaled[s];
+            alias[s] = l as u32;
+            // The large item gave away 1 - scaled[s] of its mass.
+            scaled[l] = (scaled[l] + scaled[s]) - 1.0;
+            if scaled[l] < 1.0 {
+                small.push(l);
+            } else {
+                large.push(l);
+            }
+        }
+        // What remains is 1 up to rounding.
+        for i in small.into_iter().chain(large) {
+            keep[i] = 1.0;
+            alias[i] = i as u32;
+        }
+        Self {
+            keep: keep.into_iter().map(|k| k as f32).collect(),
+            alias,
+            pmf: pmf64.into_iter().map(|p| p as f32).collect(),
+        }
+    }
+
+    /// Number of items.
+    pub fn len(&self) -> usize {
+        self.pmf.len()
+    }
+
+    /// Whether there are no items.
+    pub fn is_empty(&self) -> bool {
+        self.pmf.is_empty()
+    }
+
+    /// Choose an item with a uniform `u` in `[0, 1)`: its index and
+    /// probability. `None` for an empty table. The slot comes from the
+    /// integer part of `u·n` and the keep/alias decision from the fraction.
+    pub fn sample(&self, u: f32) -> Option<(usize, f32)> {
+        let n = self.pmf.len();
+        if n == 0 {
+            return None;
+        }
+        let scaled = u.clamp(0.0, 1.0) as f64 * n as f64;
+        let slot = (scaled as usize).min(n - 1);
+        let frac = (scaled - slot as f64) as f32;
+        let i = if frac < self.keep[slot] { slot } else { self.alias[slot] as usize };
+        Some((i, self.pmf[i]))
+    }
+
+    /// Probability of item `i` (0 when out of range).
+    pub fn pmf(&self, i: usize) -> f32 {
+        self.pmf.get(i).copied().unwrap_or(0.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Pcg32;
+
+    #[test]
+    fn pdf_1d_integrates_to_one_and_matches_samples() {
+        let f = [0.0, 1.0, 3.0, 0.0, 0.5, 2.0, 0.0, 0.0];
+        let d = PiecewiseConstant1D::new(&f);
+        assert!((d.integral() - 6.5 / 8.0).abs() < 1e-6);
+        let n = 8000;
+        let integral: f32 = (0..n).map(|i| d.pdf((i as f32 + 0.5) / n as f32)).sum::<f32>() / n as f32;
+        assert!((integral - 1.0).abs() < 1e-4, "{integral}");
+        // Histogram of samples per bin against the expected probabilities.
+        let mut rng = Pcg32::new(3, 0);
+        let m = 200_000;
+        let mut hist = [0u32; 8];
+        for _ in 0..m {
+            let (x, pdf, o) = d.sample(rng.uniform());
+            assert!((0.0..1.0).contains(&x));
+            assert_eq!(o, (x * 8.0) as usize);
+            assert_eq!(pdf, d.pdf(x), "sample and pdf agree");
+            assert!(pdf > 0.0, "zero bins are never sampled");
+            hist[o] += 1;
+        }
+        for (i, &h) in hist.iter().enumerate() {
+            let p = f[i] / 6.5;
+            let sigma = (m as f32 * p * (1.0 - p)).sqrt();
+            assert!((h as f32 - m as f32 * p).abs() <= 5.0 * sigma + 1.0, "bin {i}: {h} vs {}", m as f32 * p);
+        }
+    }
+
+    #[test]
+    fn sample_1d_inverts_the_cdf_within_a_bin() {
+        let d = PiecewiseConstant1D::new(&[1.0, 3.0]);
+        // CDF: 0, 0.25, 1. u = 0.625 is half-way through bin 1.
+        let (x, pdf, o) = d.sample(0.625);
+        assert_eq!(o, 1);
+        assert!((x - 0.75).abs() < 1e-6);
+        assert!((pdf - 1.5).abs() < 1e-6);
+        assert_eq!(d.sample(0.0).2, 0);
+    }
+
+    #[test]
+    fn zero_functions_fall_back_to_uniform() {
+        for f in [&[0.0f32, 0.0, 0.0][..], &[][..], &[f32::NAN, 0.0][..]] {
+            let d = PiecewiseConstant1D::new(f);
+            assert_eq!(d.integral(), 0.0);
+            let (x, pdf, _) = d.sample(0.3);
+            assert!((x - 0.3).abs() < 1e-6);
+            assert_eq!(pdf, 1.0);
+            assert_eq!(d.pdf(0.9), 1.0);
+        }
+        let d2 = PiecewiseConstant2D::new(&[0.0; 6], 3, 2);
+        let (uv, pdf) = d2.sample(Vec2::new(0.2, 0.7));
+        assert!((uv - Vec2::new(0.2, 0.7)).length() < 1e-6);
+        assert_eq!(pdf, 1.0);
+        let a = AliasTable::new(&[0.0, 0.0]);
+        assert_eq!(a.pmf(0), 0.5);
+        assert!(AliasTable::new(&[]).sample(0.5).is_none());
+    }
+
+    #[test]
+    fn pdf_2d_integrates_to_one_and_agrees_with_samples() {
+        let (nu, nv) = (5, 4);
+        let f: Vec<f32> =
+            (0..nu * nv).map(|i| if i % 7 == 3 { 0.0 } else { (i % 5) as f32 + 0.25 * (i / 5) as f32 }).collect();
+        let d = PiecewiseConstant2D::new(&f, nu, nv);
+        let total: f32 = f.iter().sum::<f32>() / (nu * nv) as f32;
+        assert!((d.integral() - total).abs() < 1e-5);
+        let g = 200;
+        let mut integral = 0.0;
+        for i in 0..g {
+            for j in 0..g {
+                integral += d.pdf(Vec2::new((i as f32 + 0.5) / g as f32, (j as f32 + 0.5) / g as f32));
+            }
+        }
+        integral /= (g * g) as f32;
+        assert!((integral - 1.0).abs() < 1e-4, "{integral}");
+        let mut rng = Pcg32::new(11, 1);
+        let m = 200_000;
+        let mut hist = vec![0u32; nu * nv];
+        for _ in 0..m {
+            let (uv, pdf) = d.sample(Vec2::new(rng.uniform(), rng.uniform()));
+            let cell = (uv.y * nv as f32) as usize * nu + (uv.x * nu as f32) as usize;
+            assert!((pdf - d.pdf(uv)).abs() <= 1e-6 * pdf, "{pdf} vs {}", d.pdf(uv));
+            // pdf = f / ∫f.
+            assert!((pdf - f[cell] / total).abs() < 1e-4 * pdf.max(1.0));
+            hist[cell] += 1;
+        }
+        for (c, &h) in hist.iter().enumerate() {
+            let p = f[c] / (total * (nu * nv) as f32);
+            let sigma = (m as f32 * p * (1.0 - p)).sqrt();
+            assert!((h as f32 - m as f32 * p).abs() <= 5.0 * sigma + 1.0, "cell {c}: {h} vs {}", m as f32 * p);
+        }
+    }
+
+    #[test]
+    fn alias_table_frequencies_match_weights() {
+        let w = [1.0, 0.0, 5.0, 2.0, 0.25, 10.0];
+        let t = AliasTable::new(&w);
+        let total: f32 = w.iter().sum();
+        assert!((0..w.len()).map(|i| t.pmf(i)).sum::<f32>() - 1.0 < 1e-6);
+        let mut rng = Pcg32::new(5, 5);
+        let m = 300_000;
+        let mut hist = [0u32; 6];
+        for _ in 0..m {
+            let (i, p) = t.sample(rng.uniform()).unwrap();
+            assert_eq!(p, t.pmf(i));
+            hist[i] += 1;
+        }
+        for (i, &h) in hist.iter().enumerate() {
+            let p = w[i] / total;
+            assert!((t.pmf(i) - p).abs() < 1e-6);
+            let sigma = (m as f32 * p * (1.0 - p)).sqrt();
+            assert!((h as f32 - m as f32 * p).abs() <= 5.0 * sigma + 1.0, "item {i}: {h}");
+        }
+        assert_eq!(hist[1], 0);
+        assert_eq!(t.pmf(99), 0.0);
+    }
+}
