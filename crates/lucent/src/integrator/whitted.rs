@@ -41,7 +41,7 @@ impl Integrator for WhittedIntegrator {
             let wo = -ray.dir.normalize();
             // An emissive surface shows its own radiance.
             if let Some(light) = si.light {
-                radiance += throughput * scene.area_lights()[light as usize].l(si.n, wo);
+                radiance += throughput * scene.area_lights()[light as usize].emitted(si.p, wo);
             }
             // Shade the side the ray arrived on: surfaces are two-sided.
             let ng = face_forward(si.n, wo);

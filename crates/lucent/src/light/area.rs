@@ -66,6 +66,22 @@ impl AreaLight {
         }
     }
 
+    /// Radiance leaving the point `p` of the light in direction `w`, with
+    /// the front side decided by the light's own geometry (a triangle's
+    /// winding, a sphere's outside), whatever normal the intersection
+    /// reported.
+    #[inline]
+    pub fn emitted(&self, p: Vec3, w: Vec3) -> Color {
+        if self.two_sided {
+            return self.radiance;
+        }
+        let n = match self.shape {
+            AreaShape::Sphere { center, .. } => p - center,
+            AreaShape::Triangle([p0, p1, p2]) => (p1 - p0).cross(p2 - p0),
+        };
+        self.l(n, w)
+    }
+
     /// Surface area.
     pub fn area(&self) -> f32 {
         match self.shape {
