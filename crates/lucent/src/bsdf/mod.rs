@@ -18,9 +18,36 @@
 //!   lower side (PBRT's `SameHemisphere`).
 //! * Radiance transport: refraction scales `f` by `1/η²` (PBRT §9.5.2).
 
-mod frame;
+//!
+//! The BxDFs, one file each: [`DiffuseBxdf`] (Lambert), [`ConductorBxdf`]
+//! (mirror or GGX Torrance–Sparrow), [`DielectricBxdf`] (smooth or rough
+//! glass after Walter et al. 2007), [`PlasticBxdf`] (diffuse under a
+//! dielectric coat, after Weidlich & Wilkie 2007) and [`PhongBxdf`] (the
+//! classic model made energy conserving), built on [`fresnel`] and the GGX
+//! distribution of [`microfacet`].
+//!
+//! A lobe is treated as a delta when its GGX `α < 1e-3`
+//! ([`microfacet::SMOOTH_ALPHA`]). All BxDFs return no sample for a `wo`
+//! exactly in the tangent plane (`wo.z = 0`).
 
+mod conductor;
+mod dielectric;
+mod diffuse;
+mod frame;
+pub mod fresnel;
+pub mod microfacet;
+mod phong;
+mod plastic;
+#[cfg(test)]
+mod tests;
+
+pub use conductor::{ConductorBxdf, ConductorFresnel};
+pub use dielectric::DielectricBxdf;
+pub use diffuse::DiffuseBxdf;
 pub use frame::Frame;
+pub use microfacet::TrowbridgeReitz;
+pub use phong::PhongBxdf;
+pub use plastic::PlasticBxdf;
 
 use crate::color::Color;
 use crate::geometry::{Vec2, Vec3};
@@ -41,6 +68,10 @@ pub struct BsdfSample {
     pub transmission: bool,
     /// Relative index of refraction across the surface for a transmission
     /// (η_i/η_t as in PBRT), 1 otherwise. Used by Russian roulette.
+    ///
+    /// Precisely: the index of the medium on the side of `wi` over that on
+    /// the side of `wo` (PBRT-v4's `etap`), e.g. 1.5 for light entering
+    /// glass of index 1.5 from the outside (`wo` outside, `wi` inside).
     pub eta: f32,
 }
 
@@ -49,75 +80,156 @@ pub struct BsdfSample {
 pub enum Bxdf {
     /// Black: absorbs everything (e.g. an emitter's surface).
     Black,
+    /// Lambertian reflection.
+    Diffuse(DiffuseBxdf),
+    /// A metal: mirror or rough.
+    Conductor(ConductorBxdf),
+    /// Glass: smooth or rough reflection and transmission.
+    Dielectric(DielectricBxdf),
+    /// A diffuse base under a dielectric coat.
+    Plastic(PlasticBxdf),
+    /// The energy-conserving classic Phong model.
+    Phong(PhongBxdf),
 }
 
 impl Bxdf {
     /// A Lambertian reflector with albedo `r` (each channel in [0, 1]).
     pub fn diffuse(r: Color) -> Self {
-        let _ = r;
-        todo!()
+        Self::Diffuse(DiffuseBxdf { r })
     }
 
     /// A conductor with complex index of refraction `eta + i·k` (per RGB
     /// channel) and GGX roughness `alpha` (0: a perfect mirror).
     pub fn conductor(eta: Color, k: Color, alpha: f32) -> Self {
-        let _ = (eta, k, alpha);
-        todo!()
+        Self::Conductor(ConductorBxdf {
+            fresnel: ConductorFresnel::Complex { eta, k },
+            distrib: TrowbridgeReitz::new(alpha),
+        })
     }
 
     /// A conductor given by its colour at normal incidence `r0` (Schlick's
     /// Fresnel approximation) and GGX roughness `alpha`.
     pub fn conductor_schlick(r0: Color, alpha: f32) -> Self {
-        let _ = (r0, alpha);
-        todo!()
+        Self::Conductor(ConductorBxdf {
+            fresnel: ConductorFresnel::Schlick { r0 },
+            distrib: TrowbridgeReitz::new(alpha),
+        })
     }
 
     /// A dielectric (glass) with relative index of refraction `eta` (inside
     /// over outside, the side the normal points to being outside) and GGX
     /// roughness `alpha` (0: smooth). `tint` scales transmitted light.
+    /// A non-positive or NaN `eta` is taken as 1 (an invisible interface).
     pub fn dielectric(eta: f32, alpha: f32, tint: Color) -> Self {
-        let _ = (eta, alpha, tint);
-        todo!()
+        let eta = if eta > 0.0 && eta.is_finite() { eta } else { 1.0 };
+        Self::Dielectric(DielectricBxdf { eta, distrib: TrowbridgeReitz::new(alpha), tint })
     }
 
     /// A diffuse base of albedo `diffuse` under a dielectric coat of index
     /// `eta` and GGX roughness `alpha` ("plastic").
     pub fn plastic(diffuse: Color, eta: f32, alpha: f32) -> Self {
-        let _ = (diffuse, eta, alpha);
-        todo!()
+        Self::Plastic(PlasticBxdf::new(diffuse, eta, TrowbridgeReitz::new(alpha)))
     }
 
     /// The classic Phong material made energy conserving: Lambertian
     /// `kd·colour`, a normalised Phong lobe `ks` with `exponent`, and a
     /// perfect mirror `kr`.
     pub fn phong(diffuse: Color, ks: f32, exponent: f32, kr: f32) -> Self {
-        let _ = (diffuse, ks, exponent, kr);
-        todo!()
+        Self::Phong(PhongBxdf::new(diffuse, ks, exponent, kr))
     }
 
     /// BSDF value for light arriving from `wi`, leaving towards `wo`.
     pub fn f(&self, wo: Vec3, wi: Vec3) -> Color {
-        let _ = (wo, wi);
-        Color::ZERO
+        match self {
+            Self::Black => Color::ZERO,
+            Self::Diffuse(b) => b.f(wo, wi),
+            Self::Conductor(b) => b.f(wo, wi),
+            Self::Dielectric(b) => b.f(wo, wi),
+            Self::Plastic(b) => b.f(wo, wi),
+            Self::Phong(b) => b.f(wo, wi),
+        }
     }
 
     /// Sample an incident direction for `wo`, from a 1D sample `uc` (used to
     /// pick a lobe) and a 2D sample `u`.
     pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
-        let _ = (wo, uc, u);
-        None
+        match self {
+            Self::Black => None,
+            Self::Diffuse(b) => b.sample_f(wo, u),
+            Self::Conductor(b) => b.sample_f(wo, u),
+            Self::Dielectric(b) => b.sample_f(wo, uc, u),
+            Self::Plastic(b) => b.sample_f(wo, uc, u),
+            Self::Phong(b) => b.sample_f(wo, uc, u),
+        }
     }
 
     /// Solid-angle pdf of sampling `wi` given `wo`.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let _ = (wo, wi);
-        0.0
+        match self {
+            Self::Black => 0.0,
+            Self::Diffuse(b) => b.pdf(wo, wi),
+            Self::Conductor(b) => b.pdf(wo, wi),
+            Self::Dielectric(b) => b.pdf(wo, wi),
+            Self::Plastic(b) => b.pdf(wo, wi),
+            Self::Phong(b) => b.pdf(wo, wi),
+        }
     }
 
     /// Whether every lobe is a delta: light sampling cannot help.
     pub fn is_specular(&self) -> bool {
-        false
+        match self {
+            Self::Black | Self::Diffuse(_) | Self::Plastic(_) => false,
+            Self::Conductor(b) => b.is_specular(),
+            Self::Dielectric(b) => b.is_specular(),
+            Self::Phong(b) => b.is_specular(),
+        }
     }
+}
+
+/// Whether two local directions are strictly on the same side of the
+/// surface.
+#[inline]
+pub(crate) fn same_hemisphere(a: Vec3, b: Vec3) -> bool {
+    a.z * b.z > 0.0
+}
+
+/// Mirror a local direction in the tangent plane (`z → −z`): how the
+/// two-sided reflection-only BxDFs move a lower-side query to the upper
+/// side (isotropic BxDFs are unchanged by it).
+#[inline]
+pub(crate) fn flip_z(w: Vec3) -> Vec3 {
+    Vec3::new(w.x, w.y, -w.z)
+}
+
+/// Mirror `wo` about the unit normal `n`: `−wo + 2 (wo·n) n`.
+#[inline]
+pub(crate) fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
+    -wo + 2.0 * wo.dot(n) * n
+}
+
+/// Refract `wo` through the interface with unit normal `n` and relative
+/// index `eta` (far side over `n`'s side), by Snell's law in vector form
+/// (PBRT 4th ed., eq. 9.13):
+/// `wt = −wo/η + (cos θi/η − cos θt) n`. A `wo` on the far side of `n`
+/// flips `n` and uses `1/η`. Returns the direction and the index `η'` that
+/// applied (far side over `wo`'s side), or `None` on total internal
+/// reflection.
+#[inline]
+pub(crate) fn refract(wo: Vec3, n: Vec3, eta: f32) -> Option<(Vec3, f32)> {
+    let mut cos_i = n.dot(wo);
+    let (mut eta, mut n) = (eta, n);
+    if cos_i < 0.0 {
+        eta = 1.0 / eta;
+        cos_i = -cos_i;
+        n = -n;
+    }
+    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
+    let sin2_t = sin2_i / (eta * eta);
+    if sin2_t >= 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    Some((-wo / eta + (cos_i / eta - cos_t) * n, eta))
 }
 
 /// A [`Bxdf`] placed on a surface: the shading frame and the geometric

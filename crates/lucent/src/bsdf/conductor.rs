@@ -1,0 +1,124 @@
+//! Conductors: a perfect mirror, or a rough Torrance–Sparrow reflector with
+//! a GGX distribution (PBRT 4th ed., §9.4 and §9.6).
+
+use super::fresnel::{fr_conductor, fr_schlick};
+use super::microfacet::TrowbridgeReitz;
+use super::{flip_z, same_hemisphere, BsdfSample};
+use crate::color::Color;
+use crate::geometry::{Vec2, Vec3};
+
+/// How a conductor's Fresnel reflectance is computed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ConductorFresnel {
+    /// Exact Fresnel equations with complex index `eta + i·k` per channel.
+    Complex {
+        /// Real part of the index of refraction.
+        eta: Color,
+        /// Absorption coefficient (imaginary part).
+        k: Color,
+    },
+    /// Schlick's approximation from the reflectance at normal incidence.
+    Schlick {
+        /// Reflectance at normal incidence.
+        r0: Color,
+    },
+}
+
+impl ConductorFresnel {
+    /// Reflectance for a direction at `cos_theta` to the (micro)normal.
+    #[inline]
+    pub fn eval(&self, cos_theta: f32) -> Color {
+        match *self {
+            Self::Complex { eta, k } => fr_conductor(cos_theta.abs(), eta, k),
+            Self::Schlick { r0 } => fr_schlick(cos_theta, r0),
+        }
+    }
+}
+
+/// A conductor (metal). Smooth (`α < 1e-3`): a delta mirror of weight
+/// `F(cos θo)`. Rough: the Torrance–Sparrow BRDF
+/// `f = D(wm) G(wo, wi) F(wo·wm) / (4 cos θo cos θi)` with `wm` the half
+/// vector, sampled by visible normals, whose reflection has the density
+/// `D_wo(wm) / (4 |wo·wm|)` (PBRT 4th ed., eq. 9.28 and 9.33).
+/// Two-sided: for `wo.z < 0` it reflects on the lower side.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConductorBxdf {
+    /// The Fresnel model.
+    pub fresnel: ConductorFresnel,
+    /// The microfacet distribution.
+    pub distrib: TrowbridgeReitz,
+}
+
+impl ConductorBxdf {
+    /// Whether this is a perfect mirror.
+    #[inline]
+    pub fn is_specular(&self) -> bool {
+        self.distrib.effectively_smooth()
+    }
+
+    /// BSDF value (0 for a mirror).
+    pub fn f(&self, wo: Vec3, wi: Vec3) -> Color {
+        if self.is_specular() || !same_hemisphere(wo, wi) {
+            return Color::ZERO;
+        }
+        let (wo, wi) = if wo.z < 0.0 { (flip_z(wo), flip_z(wi)) } else { (wo, wi) };
+        self.f_upper(wo, wi)
+    }
+
+    /// Torrance–Sparrow with both directions above the surface.
+    fn f_upper(&self, wo: Vec3, wi: Vec3) -> Color {
+        let (cos_o, cos_i) = (wo.z, wi.z);
+        if cos_o <= 0.0 || cos_i <= 0.0 {
+            return Color::ZERO;
+        }
+        let wm = wo + wi;
+        if wm.length_squared() == 0.0 {
+            return Color::ZERO;
+        }
+        let wm = wm.normalize();
+        let d = self.distrib.d(wm);
+        let g = self.distrib.g(wo, wi);
+        self.fresnel.eval(wo.dot(wm)) * (d * g / (4.0 * cos_o * cos_i))
+    }
+
+    /// Mirror reflection, or a visible-normal sample reflected about `wm`.
+    pub fn sample_f(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
+        if wo.z == 0.0 {
+            return None;
+        }
+        let lower = wo.z < 0.0;
+        let wo_up = if lower { flip_z(wo) } else { wo };
+        let unflip = |w: Vec3| if lower { flip_z(w) } else { w };
+        if self.is_specular() {
+            // Delta mirror: f = F/|cos θi| so that f·|cos θi|/pdf = F.
+            let wi = Vec3::new(-wo_up.x, -wo_up.y, wo_up.z);
+            let f = self.fresnel.eval(wi.z) / wi.z;
+            return Some(BsdfSample { f, wi: unflip(wi), pdf: 1.0, specular: true, transmission: false, eta: 1.0 });
+        }
+        let wm = self.distrib.sample_wm(wo_up, u);
+        let wi = super::reflect(wo_up, wm);
+        if wi.z <= 0.0 {
+            return None;
+        }
+        let pdf = self.distrib.d_visible(wo_up, wm) / (4.0 * wo_up.dot(wm).abs());
+        let f = self.f_upper(wo_up, wi);
+        if pdf <= 0.0 || !pdf.is_finite() {
+            return None;
+        }
+        Some(BsdfSample { f, wi: unflip(wi), pdf, specular: false, transmission: false, eta: 1.0 })
+    }
+
+    /// `D_wo(wm) / (4 |wo·wm|)` for the half vector (0 for a mirror).
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if self.is_specular() || !same_hemisphere(wo, wi) {
+            return 0.0;
+        }
+        let (wo, wi) = if wo.z < 0.0 { (flip_z(wo), flip_z(wi)) } else { (wo, wi) };
+        let wm = wo + wi;
+        if wm.length_squared() == 0.0 {
+            return 0.0;
+        }
+        let wm = wm.normalize();
+        self.distrib.d_visible(wo, wm) / (4.0 * wo.dot(wm).abs())
+    }
+}
