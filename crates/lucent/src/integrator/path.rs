@@ -25,10 +25,12 @@ use crate::scene::Scene;
 /// directional) and delta BSDF lobes (mirror, smooth glass) can only be
 /// reached by one technique and get weight 1.
 ///
-/// Russian roulette (Arvo & Kirk 1990) ends paths from the third vertex on
-/// with probability `1 - max(β·η²)` when that is positive, where `η²`
-/// undoes the radiance scaling of refraction (PBRT 4th ed. §13.4.4), so
-/// that the estimate stays unbiased while dim paths stop early.
+/// Russian roulette (Arvo & Kirk 1990) ends paths after [`RR_DEPTH`]
+/// bounces: a path survives with probability `q = min(max(β·η²), 0.95)`
+/// and is then divided by `q`, so the estimate stays unbiased while dim
+/// paths stop early. `η²` undoes the radiance scaling of refraction (PBRT
+/// 4th ed. §13.4.4), so light inside glass is not killed for being scaled
+/// down; the cap 0.95 ends paths that never lose energy (as in Mitsuba 3).
 ///
 /// Sample dimensions are consumed in a fixed pattern per vertex (light
 /// choice, light position, lobe choice, direction, roulette), so that a
@@ -38,6 +40,11 @@ pub struct PathIntegrator {
     /// Most scattering events along a path (1: direct light only).
     pub max_depth: u32,
 }
+
+/// Paths are never ended by Russian roulette before this many bounces
+/// (Mitsuba 3's default `rr_depth`): ending them earlier saves rays but
+/// adds much variance to indirect light.
+pub const RR_DEPTH: u32 = 5;
 
 /// The power heuristic with β = 2 for one sample of each of two
 /// techniques.
@@ -140,14 +147,14 @@ impl PathIntegrator {
             ray = si.spawn_ray(bs.wi);
             stats.secondary += 1;
 
-            // Russian roulette.
-            let rr_beta = (beta * eta_scale).max_element();
-            if rr_beta < 1.0 && depth >= 1 {
-                let q = (1.0 - rr_beta).max(0.0);
-                if u_rr < q {
+            // Russian roulette, from the vertex RR_DEPTH on: survive with
+            // probability min(max β·η², 0.95) and divide by it.
+            if depth + 1 >= RR_DEPTH {
+                let survive = (beta * eta_scale).max_element().min(0.95);
+                if u_rr >= survive {
                     break;
                 }
-                beta /= 1.0 - q;
+                beta /= survive;
             }
             depth += 1;
         }

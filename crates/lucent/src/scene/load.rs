@@ -447,7 +447,13 @@ impl SceneFile {
         }
         for (i, q) in group.quad.iter().enumerate() {
             let obj = Object::new("quad", i, &q.name, &q.material, &q.transform, (q.emission, q.two_sided));
-            add(ctx, obj, quad_mesh(q.vertices.map(Vec3::from)), scene)?;
+            match quad_triangles(q.vertices.map(Vec3::from)) {
+                Ok([a, b]) => {
+                    add(ctx, obj, Ok(a), scene)?;
+                    add(ctx, obj, Ok(b), scene)?;
+                }
+                Err(e) => add(ctx, obj, Err(e), scene)?,
+            }
         }
         for (i, m) in group.mesh.iter().enumerate() {
             let what = describe(label, "mesh", i, &m.name);
@@ -643,6 +649,7 @@ struct Place<'a> {
 }
 
 /// The keys every object kind shares, for [`SceneFile::add_group`].
+#[derive(Clone, Copy)]
 struct Object<'a> {
     kind: &'static str,
     index: usize,
@@ -665,15 +672,11 @@ impl<'a> Object<'a> {
     }
 }
 
-/// A quad as a two-triangle mesh, (v0, v1, v2) and (v0, v2, v3): one BVH
-/// and watertight intersection along the shared diagonal.
-fn quad_mesh(v: [Vec3; 4]) -> Result<Shape, crate::shapes::ShapeError> {
-    let data =
-        crate::mesh::TriangleMesh { positions: v.to_vec(), indices: vec![[0, 1, 2], [0, 2, 3]], ..Default::default() };
-    for tri in &data.indices {
-        Triangle::new(tri.map(|i| v[i as usize]), None)?;
-    }
-    Ok(Shape::Mesh(Arc::new(Mesh::new(data)?)))
+/// A quad as its two triangles, (v0, v1, v2) and (v0, v2, v3): separate
+/// primitives in the top-level BVH (cheaper to intersect than a two-triangle
+/// mesh with its own BVH), watertight along the shared diagonal.
+fn quad_triangles(v: [Vec3; 4]) -> Result<[Shape; 2], crate::shapes::ShapeError> {
+    Ok([Triangle::new([v[0], v[1], v[2]], None)?.into(), Triangle::new([v[0], v[2], v[3]], None)?.into()])
 }
 
 /// A mesh ready to place, with the scene materials of the file's own
