@@ -200,7 +200,9 @@ fn furnace_for_conductors_and_dielectrics() {
     let (mean, worst) = stats(&render_path(&furnace("dielectric = { eta = 1.5 }")), 1.0);
     assert!((mean - 1.0).abs() < 5e-3 && worst < 0.1, "glass: mean {mean}, worst {worst}");
     let (mean, _) = stats(&render_path(&furnace("conductor = { color = [1, 1, 1], roughness = 0.5 }")), 1.0);
-    assert!(mean <= 1.0 + 2e-3 && mean > 0.9, "rough metal: mean {mean}");
+    // Single-scattering GGX at α = 0.5 keeps 69–86% of the light depending
+    // on the angle (bsdf tests): the sphere's mean is in that range.
+    assert!(mean <= 1.0 + 2e-3 && mean > 0.75, "rough metal: mean {mean}");
     let (mean, _) = stats(&render_path(&furnace("dielectric = { eta = 1.5, roughness = 0.3 }")), 1.0);
     assert!(mean <= 1.0 + 5e-3 && mean > 0.85, "rough glass: mean {mean}");
     let (mean, _) = stats(&render_path(&furnace("plastic = { color = [1, 1, 1] }")), 1.0);

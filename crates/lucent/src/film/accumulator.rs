@@ -1,21 +1,36 @@
-//! The film of progressive rendering: weighted sums of samples per pixel.
+//! The film of progressive rendering: filter-weighted sums of samples per
+//! pixel, kept in fixed point so that they are exact.
 
 use super::{check_image_size, Film, FilmError};
 use crate::color::Color;
+use std::sync::atomic::{AtomicI64, Ordering};
 
-/// Per-pixel sums `Σ wᵢ·Lᵢ` and `Σ wᵢ` of the samples taken so far, where
-/// `wᵢ` is the filter weight of sample `i` (see
-/// [`crate::film::FilterSampler`]). The image is their ratio.
+/// Fixed-point scale of the sums: one unit is 2⁻²⁰ (about 10⁻⁶).
+pub const FIXED_POINT_SCALE: f64 = (1u64 << 20) as f64;
+
+/// Largest radiance (times filter weight) one sample may add to a pixel;
+/// larger values are clamped. With at most 2²⁰ samples per pixel and 16
+/// pixels per sample's filter footprint this keeps every sum inside an
+/// `i64`. 524,288 is far above anything but looking straight into a
+/// point-sized sun.
+pub const MAX_CONTRIBUTION: f32 = (1u32 << 19) as f32;
+
+/// Per-pixel sums `Σ wᵢ·Lᵢ` and `Σ wᵢ` of the samples that reached a pixel,
+/// where `wᵢ` is the reconstruction filter evaluated at the sample's
+/// offset from the pixel centre (samples are "splatted" to every pixel
+/// whose filter covers them). The image is their ratio.
 ///
-/// Samples are added to a pixel one at a time in sample-index order, so the
-/// sums after `n` samples are bit-identical however the work was split
-/// into passes, threads, or interrupted and resumed runs.
-#[derive(Clone, Debug, PartialEq)]
+/// The sums are fixed-point integers updated atomically. Integer addition
+/// is exact and associative, so the sums after `n` samples are
+/// bit-identical however the work was split among threads, passes, or
+/// interrupted and resumed runs, even though neighbouring rows rendered by
+/// different threads add to the same pixels.
+#[derive(Debug)]
 pub struct Accumulator {
     width: u32,
     height: u32,
     spp: u32,
-    sums: Vec<[f32; 4]>,
+    sums: Vec<[AtomicI64; 4]>,
 }
 
 impl Accumulator {
@@ -26,18 +41,24 @@ impl Accumulator {
         let n = width as usize * height as usize;
         let mut sums = Vec::new();
         sums.try_reserve_exact(n).map_err(|_| FilmError::OutOfMemory(width, height))?;
-        sums.resize(n, [0.0; 4]);
+        sums.resize_with(n, Default::default);
         Ok(Self { width, height, spp: 0, sums })
     }
 
-    /// Rebuild from stored sums (a checkpoint); `sums` must hold one entry
-    /// per pixel.
-    pub fn from_parts(width: u32, height: u32, spp: u32, sums: Vec<[f32; 4]>) -> Result<Self, FilmError> {
+    /// Rebuild from stored fixed-point sums (a checkpoint): one
+    /// `[Σw·r, Σw·g, Σw·b, Σw]` per pixel, row by row from the top.
+    pub fn from_raw(width: u32, height: u32, spp: u32, raw: &[[i64; 4]]) -> Result<Self, FilmError> {
         check_image_size(width, height)?;
-        if sums.len() != width as usize * height as usize {
+        if raw.len() != width as usize * height as usize {
             return Err(FilmError::Empty(width, height));
         }
+        let sums = raw.iter().map(|s| s.map(AtomicI64::new)).collect();
         Ok(Self { width, height, spp, sums })
+    }
+
+    /// The fixed-point sums, row by row from the top.
+    pub fn raw(&self) -> Vec<[i64; 4]> {
+        self.sums.iter().map(|s| std::array::from_fn(|i| s[i].load(Ordering::Relaxed))).collect()
     }
 
     /// Width in pixels.
@@ -55,19 +76,20 @@ impl Accumulator {
         self.spp
     }
 
-    /// Record that `n` more samples were added to every pixel.
+    /// Record that `n` more samples were taken in every pixel.
     pub fn add_spp(&mut self, n: u32) {
         self.spp += n;
     }
 
-    /// The sums, row by row from the top: `[Σw·r, Σw·g, Σw·b, Σw]`.
-    pub fn sums(&self) -> &[[f32; 4]] {
-        &self.sums
-    }
-
-    /// Mutable sums, row by row from the top.
-    pub fn sums_mut(&mut self) -> &mut [[f32; 4]] {
-        &mut self.sums
+    /// Add radiance `l` with filter weight `w` to pixel `(x, y)`. Safe to
+    /// call from many threads at once.
+    #[inline]
+    pub fn splat(&self, x: u32, y: u32, l: Color, w: f32) {
+        let s = &self.sums[y as usize * self.width as usize + x as usize];
+        let wl = (l * w).clamp(Color::splat(-MAX_CONTRIBUTION), Color::splat(MAX_CONTRIBUTION));
+        for (sum, v) in s.iter().zip([wl.x, wl.y, wl.z, w]) {
+            sum.fetch_add(to_fixed(v), Ordering::Relaxed);
+        }
     }
 
     /// The image so far: each pixel's weighted mean (black where no weight
@@ -75,17 +97,59 @@ impl Accumulator {
     pub fn to_film(&self) -> Film {
         let mut film = Film::new(self.width, self.height).expect("size checked at construction");
         for (out, s) in film.pixels_mut().iter_mut().zip(&self.sums) {
-            *out = if s[3] != 0.0 { Color::new(s[0], s[1], s[2]) / s[3] } else { Color::ZERO };
+            let [r, g, b, w] = std::array::from_fn(|i| s[i].load(Ordering::Relaxed) as f64);
+            *out = if w != 0.0 { Color::new((r / w) as f32, (g / w) as f32, (b / w) as f32) } else { Color::ZERO };
         }
         film
     }
 }
 
-/// Add one sample of radiance `l` with filter weight `w` to a pixel's sums.
+/// Round to the nearest fixed-point unit.
 #[inline]
-pub fn add_sample(sum: &mut [f32; 4], l: Color, w: f32) {
-    sum[0] += w * l.x;
-    sum[1] += w * l.y;
-    sum[2] += w * l.z;
-    sum[3] += w;
+fn to_fixed(v: f32) -> i64 {
+    (v as f64 * FIXED_POINT_SCALE).round() as i64
+}
+
+impl Clone for Accumulator {
+    fn clone(&self) -> Self {
+        Self::from_raw(self.width, self.height, self.spp, &self.raw()).expect("same size")
+    }
+}
+
+impl PartialEq for Accumulator {
+    fn eq(&self, other: &Self) -> bool {
+        (self.width, self.height, self.spp) == (other.width, other.height, other.spp) && self.raw() == other.raw()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sums_are_exact_in_any_order() {
+        let a = Accumulator::new(2, 1).unwrap();
+        let b = Accumulator::new(2, 1).unwrap();
+        let samples = [(Color::new(0.1, 3.0, 1e-4), 0.25), (Color::splat(7.3), 0.5), (Color::new(1e-3, 0.0, 2.0), 1.0)];
+        for (l, w) in samples {
+            a.splat(1, 0, l, w);
+        }
+        for (l, w) in samples.iter().rev() {
+            b.splat(1, 0, *l, *w);
+        }
+        assert_eq!(a, b);
+        let p = a.to_film().pixel(1, 0);
+        let expect = (Color::new(0.1, 3.0, 1e-4) * 0.25 + Color::splat(7.3) * 0.5 + Color::new(1e-3, 0.0, 2.0)) / 1.75;
+        assert!((p - expect).abs().max_element() < 1e-5, "{p} vs {expect}");
+        assert_eq!(a.to_film().pixel(0, 0), Color::ZERO);
+    }
+
+    #[test]
+    fn huge_contributions_are_clamped_not_wrapped() {
+        let a = Accumulator::new(1, 1).unwrap();
+        for _ in 0..16 {
+            a.splat(0, 0, Color::splat(f32::MAX), 1.0);
+        }
+        assert_eq!(a.to_film().pixel(0, 0), Color::splat(MAX_CONTRIBUTION));
+    }
 }

@@ -11,7 +11,7 @@
 //! | 4, 4 | width, height |
 //! | 4 | samples per pixel done |
 //! | 8 | fingerprint of everything that determines the samples |
-//! | 16 per pixel | `Σw·r, Σw·g, Σw·b, Σw` as f32 |
+//! | 32 per pixel | `Σw·r, Σw·g, Σw·b, Σw` as i64 fixed point (see [`Accumulator`]) |
 //!
 //! It is written to a temporary file beside the target and renamed into
 //! place, so a crash never leaves a truncated checkpoint.
@@ -68,7 +68,7 @@ pub fn save_checkpoint(path: &Path, acc: &Accumulator, fingerprint: u64) -> Resu
             w.write_all(&v.to_le_bytes()).map_err(io)?;
         }
         w.write_all(&fingerprint.to_le_bytes()).map_err(io)?;
-        for s in acc.sums() {
+        for s in acc.raw() {
             for v in s {
                 w.write_all(&v.to_le_bytes()).map_err(io)?;
             }
@@ -106,18 +106,20 @@ pub fn load_checkpoint(path: &Path, fingerprint: u64, width: u32, height: u32) -
     }
     check_image_size(w, h).map_err(|e| invalid(&e.to_string()))?;
     let n = w as usize * h as usize;
-    let expected = (n * 16) as u64;
+    let expected = (n * 32) as u64;
     let actual = f.metadata().map(|m| m.len()).unwrap_or(0).saturating_sub(HEADER as u64);
     if actual != expected {
         return Err(invalid(&format!("truncated or padded: {actual} bytes of pixel data, expected {expected}")));
     }
-    let mut bytes = vec![0u8; n * 16];
+    let mut bytes = Vec::new();
+    bytes.try_reserve_exact(n * 32).map_err(|_| invalid("not enough memory to read it"))?;
+    bytes.resize(n * 32, 0);
     f.read_exact(&mut bytes).map_err(|_| invalid("truncated pixel data"))?;
-    let sums = bytes
-        .chunks_exact(16)
-        .map(|c| std::array::from_fn(|i| f32::from_le_bytes(c[i * 4..i * 4 + 4].try_into().unwrap())))
+    let sums: Vec<[i64; 4]> = bytes
+        .chunks_exact(32)
+        .map(|c| std::array::from_fn(|i| i64::from_le_bytes(c[i * 8..i * 8 + 8].try_into().unwrap())))
         .collect();
-    Accumulator::from_parts(w, h, spp, sums).map_err(|e| invalid(&e.to_string()))
+    Accumulator::from_raw(w, h, spp, &sums).map_err(|e| invalid(&e.to_string()))
 }
 
 #[cfg(test)]
@@ -129,7 +131,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("a.ckpt");
         let mut acc = Accumulator::new(3, 2).unwrap();
-        acc.sums_mut()[4] = [1.5, -0.0, f32::MAX, 7.0];
+        acc.splat(1, 1, crate::color::Color::new(1.5, -0.0, 1e5), 0.5);
         acc.add_spp(9);
         save_checkpoint(&path, &acc, 42).unwrap();
         assert_eq!(load_checkpoint(&path, 42, 3, 2).unwrap(), acc);

@@ -8,7 +8,7 @@ mod filter;
 mod output;
 mod tonemap;
 
-pub use accumulator::{add_sample, Accumulator};
+pub use accumulator::{Accumulator, FIXED_POINT_SCALE, MAX_CONTRIBUTION};
 pub use checkpoint::{load_checkpoint, save_checkpoint, CheckpointError};
 pub use compare::{
     compare, read_image, relative_squared_error, srgb_decode, CompareError, DiffMetrics, ImageReadError,

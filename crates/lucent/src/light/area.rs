@@ -160,8 +160,8 @@ impl AreaLight {
             AreaShape::Sphere { center, radius } => {
                 let dc2 = (center - ctx.p).length_squared();
                 let r2 = radius * radius;
-                if dc2 <= r2 {
-                    // Inside: uniform by area, 1 / (4π r²), to solid angle.
+                if sphere_sampled_by_area(dc2, r2) {
+                    // Inside (or on): uniform by area, 1 / (4π r²), to solid angle.
                     let n = (p_light - center).normalize_or_zero();
                     area_to_solid_angle(ctx.p, p_light, n, 4.0 * PI * r2)
                 } else {
@@ -221,14 +221,26 @@ fn sphere_one_minus_cos_max(sin2_max: f32) -> f32 {
 
 /// A point of the sphere seen from `p`, its outward normal and the
 /// solid-angle pdf.
+/// Whether a sphere light is sampled by area rather than by the cone it
+/// subtends, from a point at squared distance `dc2` from the centre: inside,
+/// and also on the surface or just outside it, where the cone is a whole
+/// hemisphere and its construction of the point (PBRT §6.2.4) degenerates
+/// to the shading point itself. Points on the surface computed by
+/// intersection land on either side of it by rounding, so the margin must
+/// exceed that error; area sampling is valid (if noisier) from anywhere.
+#[inline]
+fn sphere_sampled_by_area(dc2: f32, r2: f32) -> bool {
+    dc2 <= r2 * 1.002
+}
+
 fn sample_sphere(center: Vec3, radius: f32, p: Vec3, u: Vec2) -> Option<(Vec3, Vec3, f32)> {
     let dc2 = (center - p).length_squared();
     let r2 = radius * radius;
     if radius.is_nan() || radius <= 0.0 {
         return None;
     }
-    if dc2 <= r2 {
-        // Inside: uniform over the surface (PBRT §A.5.3: z uniform in
+    if sphere_sampled_by_area(dc2, r2) {
+        // Inside (or on): uniform over the surface (PBRT §A.5.3: z uniform in
         // [−1, 1] and φ uniform is uniform on the sphere, Archimedes).
         let n = uniform_sphere(u);
         let p_light = center + radius * n;

@@ -4,7 +4,7 @@
 //! resumed later with the same result as one uninterrupted run.
 
 use super::RenderError;
-use crate::film::{add_sample, Accumulator, FilterSampler};
+use crate::film::{Accumulator, Filter};
 use crate::geometry::Vec2;
 use crate::integrator::{PathIntegrator, RayStats};
 use crate::sampling::PathSampler;
@@ -112,7 +112,7 @@ fn run(
     let first_spp = acc.spp();
     let target = options.spp;
     let integrator = PathIntegrator { max_depth: scene.settings.max_depth };
-    let filter = FilterSampler::new(scene.settings.filter);
+    let filter = scene.settings.filter;
     let mut stats = RayStats::default();
     let nonfinite = AtomicU64::new(0);
     // Seconds per sample per pixel, measured on the passes so far.
@@ -189,39 +189,59 @@ fn acc_spp_fraction(first_spp: u32, target: u32, rows: (u32, usize), height: u32
 
 /// Add `pass_spp` samples to every pixel, rows in parallel. Calls `rows`
 /// with (samples before the pass, rows finished) as rows finish.
+///
+/// Each sample is placed uniformly in its pixel (by the sampler's first two
+/// dimensions) and splatted to every pixel within the filter's radius,
+/// weighted by the filter at its offset from that pixel's centre (PBRT 3rd
+/// ed. §7.8; Mitsuba's film does the same). Compared with keeping each
+/// sample in its own pixel (filter importance sampling), this averages more
+/// samples into each pixel at the same cost.
 fn render_pass(
     scene: &Scene,
     integrator: &PathIntegrator,
-    filter: &FilterSampler,
-    acc: &mut Accumulator,
+    filter: &Filter,
+    acc: &Accumulator,
     pass_spp: u32,
     nonfinite: &AtomicU64,
     rows: &(dyn Fn((u32, usize)) + Sync),
 ) -> RayStats {
-    let w = acc.width() as usize;
+    let (w, h) = (acc.width(), acc.height());
     let first = acc.spp();
     let done = AtomicUsize::new(0);
     let settings = &scene.settings;
-    acc.sums_mut()
-        .par_chunks_mut(w)
-        .enumerate()
+    let radius = filter.radius();
+    (0..h)
+        .into_par_iter()
         .map_init(
             || PathSampler::new(settings.sampler, settings.seed),
-            |sampler, (y, row)| {
+            |sampler, y| {
                 let mut stats = RayStats::default();
                 let mut bad = 0;
-                for (x, sum) in row.iter_mut().enumerate() {
+                for x in 0..w {
                     for index in first..first + pass_spp {
-                        sampler.start_pixel_sample(x as u32, y as u32, index);
-                        let fs = filter.sample(sampler.pixel_2d());
-                        let film_pos = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + fs.offset;
+                        sampler.start_pixel_sample(x, y, index);
+                        let film_pos = Vec2::new(x as f32, y as f32) + sampler.pixel_2d();
                         let lens = sampler.get_2d();
                         let ray = scene.camera.generate_ray(film_pos, lens);
                         let l = integrator.li(scene, &ray, sampler, &mut stats);
-                        if l.is_finite() {
-                            add_sample(sum, l, fs.weight);
-                        } else {
+                        if !l.is_finite() {
                             bad += 1;
+                            continue;
+                        }
+                        // Pixels whose centres (i + 0.5) lie within the
+                        // filter radius of the sample.
+                        let lo = (film_pos - Vec2::splat(radius + 0.5)).ceil().max(Vec2::ZERO);
+                        let hi = (film_pos + Vec2::splat(radius - 0.5))
+                            .floor()
+                            .min(Vec2::new(w as f32 - 1.0, h as f32 - 1.0));
+                        for py in lo.y as u32..=hi.y as u32 {
+                            for px in lo.x as u32..=hi.x as u32 {
+                                let offset = Vec2::new(px as f32 + 0.5, py as f32 + 0.5) - film_pos;
+                                let weight = filter.evaluate(offset);
+                                if weight != 0.0 {
+                                    acc.splat(px, py, l, weight);
+                                }
+                            }
                         }
                     }
                 }
