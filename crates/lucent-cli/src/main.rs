@@ -157,7 +157,7 @@ fn run_check(path: &Path) -> Result<(), String> {
         path.display(),
         count(scene.primitives().len(), "object"),
         count(scene.materials().len(), "material"),
-        count(scene.lights().len(), "light"),
+        count(scene.lights().len() + scene.area_lights().len() + scene.environment().is_some() as usize, "light"),
         scene.camera.width(),
         scene.camera.height(),
         scene.settings.spp
