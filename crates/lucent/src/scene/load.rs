@@ -367,7 +367,9 @@ impl SceneFile {
                 ));
             }
         }
-        filter.validate().map_err(|e| self.error(find_key(&self.source, "filter", 0), format!("[render] filter: {e}")))?;
+        filter
+            .validate()
+            .map_err(|e| self.error(find_key(&self.source, "filter", 0), format!("[render] filter: {e}")))?;
         Ok(filter)
     }
 
