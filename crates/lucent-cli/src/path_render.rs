@@ -37,6 +37,13 @@ pub fn run(args: &RenderArgs, file: &SceneFile, scene: &Scene, out_path: &Path) 
     let ckpt = checkpoint_path(out_path);
     let fp = fingerprint(file);
     let mut acc = if args.resume {
+        if !ckpt.exists() {
+            return Err(format!(
+                "--resume: there is no checkpoint {} to continue from (one is written by a render to {} with --checkpoint-every or --resume)",
+                ckpt.display(),
+                out_path.display()
+            ));
+        }
         load_checkpoint(&ckpt, fp, w, h).map_err(|e| e.to_string())?
     } else {
         Accumulator::new(w, h).map_err(|e| e.to_string())?
@@ -55,15 +62,15 @@ pub fn run(args: &RenderArgs, file: &SceneFile, scene: &Scene, out_path: &Path) 
     let report = |f: f64| bar.set(f);
     let interval = args.checkpoint_every.map(Duration::from_secs_f64);
     let mut last_checkpoint = Instant::now();
+    // The final state is saved after the render: the render may end on its
+    // time budget without a pass flagged last.
     let mut on_pass = |acc: &Accumulator, info: &PassInfo| -> Result<(), String> {
         let due = interval.is_some_and(|i| last_checkpoint.elapsed() >= i);
-        if keep_state && (due || info.last) {
+        if keep_state && due && !info.last {
             save_checkpoint(&ckpt, acc, fp).map_err(|e| e.to_string())?;
-            if !info.last {
-                // The image in progress, for watching.
-                let image = PendingImage::create(out_path).map_err(|e| e.to_string())?;
-                image.write(&acc.to_film(), tone_map, srgb).map_err(|e| e.to_string())?;
-            }
+            // The image in progress, for watching.
+            let image = PendingImage::create(out_path).map_err(|e| e.to_string())?;
+            image.write(&acc.to_film(), tone_map, srgb).map_err(|e| e.to_string())?;
             last_checkpoint = Instant::now();
         }
         Ok(())
@@ -82,6 +89,9 @@ pub fn run(args: &RenderArgs, file: &SceneFile, scene: &Scene, out_path: &Path) 
         None
     };
     bar.finish();
+    if keep_state && output.is_some() {
+        save_checkpoint(&ckpt, &acc, fp).map_err(|e| e.to_string())?;
+    }
     pending.write(&acc.to_film(), tone_map, srgb).map_err(|e| e.to_string())?;
 
     if let Some(out) = &output {

@@ -335,7 +335,8 @@ impl SceneFile {
         let r = r.map_or(0.0, NonNegative::get);
         if r > 1.0 {
             return Err(self.error(
-                find_key(&self.source, "roughness", 0).or_else(|| find_table(&self.source, name)),
+                find_key_after(&self.source, "roughness", find_table(&self.source, name))
+                    .or_else(|| find_table(&self.source, name)),
                 format!("material \"{name}\": roughness must be from 0 (smooth) to 1, got {r}"),
             ));
         }
@@ -522,7 +523,7 @@ impl SceneFile {
         match emission {
             Some(radiance) => scene
                 .add_emissive(primitive, radiance.into(), two_sided)
-                .map_err(|e| self.error(find_key(&self.source, "emission", 0).or(at), format!("{what}: {e}"))),
+                .map_err(|e| self.error(find_key_after(&self.source, "emission", at).or(at), format!("{what}: {e}"))),
             None if two_sided => Err(self.error(at, format!("{what}: `two_sided` applies only with `emission`"))),
             None => {
                 scene.add(primitive);
@@ -803,6 +804,17 @@ pub(crate) fn find_key(source: &str, key: &str, nth: usize) -> Option<SourceLoca
         .filter_map(|(i, l)| is_key_at(l, key).map(|c| (i, c)))
         .nth(nth)
         .map(|(i, c)| SourceLocation { line: i + 1, column: c + 1 })
+}
+
+/// The first line at or after `from` (the start of the file if `None`) that
+/// assigns `key`: the key of one table among several that have it.
+fn find_key_after(source: &str, key: &str, from: Option<SourceLocation>) -> Option<SourceLocation> {
+    let first = from.map_or(0, |l| l.line - 1);
+    source
+        .lines()
+        .enumerate()
+        .skip(first)
+        .find_map(|(i, l)| is_key_at(l, key).map(|c| SourceLocation { line: i + 1, column: c + 1 }))
 }
 
 /// The `nth` (0-based) line whose text, after indentation, starts with
