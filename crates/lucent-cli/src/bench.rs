@@ -48,6 +48,8 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         .collect();
 
     let base = results[0].median_mrays;
+    // Camera samples (paths, for the path tracer) per render.
+    let samples = scene.camera.width() as f64 * scene.camera.height() as f64 * scene.settings.spp as f64;
     let name = args.scene.as_ref().map_or_else(|| "<built-in showcase>".to_owned(), |p| p.display().to_string());
     if args.json {
         let rows: Vec<serde_json::Value> = results
@@ -57,6 +59,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
                     "threads": m.threads,
                     "median_seconds": m.median_seconds,
                     "mrays_per_second": m.median_mrays,
+                    "msamples_per_second": samples / m.median_seconds / 1e6,
                     "rays": m.rays,
                     "speedup": m.median_mrays / base,
                 })
@@ -73,19 +76,24 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         say!("{report}")?;
     } else {
         say!(
-            "{name}: {}×{}, {} spp, median of {} renders",
+            "{name}: {}×{}, {} spp, {} integrator, median of {} renders",
             scene.camera.width(),
             scene.camera.height(),
             scene.settings.spp,
+            match scene.settings.integrator {
+                lucent::render::IntegratorKind::Whitted => "whitted",
+                lucent::render::IntegratorKind::Path => "path",
+            },
             args.repeats
         )?;
-        say!("{:>8} {:>12} {:>12} {:>10}", "threads", "seconds", "Mrays/s", "speedup")?;
+        say!("{:>8} {:>12} {:>12} {:>12} {:>10}", "threads", "seconds", "Mrays/s", "Msamples/s", "speedup")?;
         for m in &results {
             say!(
-                "{:>8} {:>12.3} {:>12.2} {:>9.2}×",
+                "{:>8} {:>12.3} {:>12.2} {:>12.3} {:>9.2}×",
                 m.threads,
                 m.median_seconds,
                 m.median_mrays,
+                samples / m.median_seconds / 1e6,
                 m.median_mrays / base
             )?;
         }
