@@ -201,6 +201,20 @@ pub(crate) fn flip_z(w: Vec3) -> Vec3 {
     Vec3::new(w.x, w.y, -w.z)
 }
 
+/// Evaluate a reflection-only BxDF two-sidedly: `f_upper` is its value for
+/// `wo` above the surface; a pair below is mirrored up, a pair on opposite
+/// sides reflects nothing.
+#[inline]
+pub(crate) fn two_sided(wo: Vec3, wi: Vec3, f_upper: impl Fn(Vec3, Vec3) -> Color) -> Color {
+    if !same_hemisphere(wo, wi) {
+        Color::ZERO
+    } else if wo.z < 0.0 {
+        f_upper(flip_z(wo), flip_z(wi))
+    } else {
+        f_upper(wo, wi)
+    }
+}
+
 /// Mirror `wo` about the unit normal `n`: `−wo + 2 (wo·n) n`.
 #[inline]
 pub(crate) fn reflect(wo: Vec3, n: Vec3) -> Vec3 {

@@ -21,7 +21,7 @@
 //! the side of `wo`, so it is exactly the density of the returned samples.
 //! Reflection only, two-sided.
 
-use super::{flip_z, same_hemisphere, BsdfSample, Frame};
+use super::{flip_z, same_hemisphere, two_sided, BsdfSample, Frame};
 use crate::color::Color;
 use crate::geometry::{Vec2, Vec3};
 use crate::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
@@ -95,14 +95,7 @@ impl PhongBxdf {
 
     /// BSDF value of the non-delta lobes.
     pub fn f(&self, wo: Vec3, wi: Vec3) -> Color {
-        if !same_hemisphere(wo, wi) {
-            return Color::ZERO;
-        }
-        if wo.z < 0.0 {
-            self.f_upper(flip_z(wo), flip_z(wi))
-        } else {
-            self.f_upper(wo, wi)
-        }
+        two_sided(wo, wi, |wo, wi| self.f_upper(wo, wi))
     }
 
     /// Pick a lobe with `uc`, sample it with `u`.

@@ -31,7 +31,7 @@
 
 use super::fresnel::{fr_dielectric, fr_dielectric_hemispherical};
 use super::microfacet::TrowbridgeReitz;
-use super::{flip_z, reflect, same_hemisphere, BsdfSample};
+use super::{flip_z, reflect, same_hemisphere, two_sided, BsdfSample};
 use crate::color::Color;
 use crate::geometry::{Vec2, Vec3};
 use crate::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
@@ -123,14 +123,7 @@ impl PlasticBxdf {
 
     /// BSDF value (for a smooth coat, without the delta reflection).
     pub fn f(&self, wo: Vec3, wi: Vec3) -> Color {
-        if !same_hemisphere(wo, wi) {
-            return Color::ZERO;
-        }
-        if wo.z < 0.0 {
-            self.f_upper(flip_z(wo), flip_z(wi))
-        } else {
-            self.f_upper(wo, wi)
-        }
+        two_sided(wo, wi, |wo, wi| self.f_upper(wo, wi))
     }
 
     /// Sample the coat or the base, with probabilities proportional to

@@ -163,15 +163,22 @@ pub fn render_with(
     if scene.settings.spp == 0 {
         return Err(RenderError::NoSamples);
     }
-    match options.threads {
-        None => render_rows(scene, integrator, options),
-        Some(n) => {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(n.max(1))
-                .build()
-                .map_err(|e| RenderError::Threads(n, e.to_string()))?;
-            pool.install(|| render_rows(scene, integrator, options))
-        }
+    in_pool(options.threads, || render_rows(scene, integrator, options))
+}
+
+/// Run `work` on a pool of `threads` workers (`None`: rayon's global pool,
+/// one per core).
+pub(crate) fn in_pool<T: Send>(
+    threads: Option<usize>,
+    work: impl FnOnce() -> Result<T, RenderError> + Send,
+) -> Result<T, RenderError> {
+    match threads {
+        None => work(),
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n.max(1))
+            .build()
+            .map_err(|e| RenderError::Threads(n, e.to_string()))?
+            .install(work),
     }
 }
 

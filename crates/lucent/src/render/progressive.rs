@@ -88,16 +88,7 @@ pub fn render_progressive(
     if options.spp == 0 {
         return Err(RenderError::NoSamples);
     }
-    match options.threads {
-        None => run(scene, acc, options),
-        Some(n) => {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(n.max(1))
-                .build()
-                .map_err(|e| RenderError::Threads(n, e.to_string()))?;
-            pool.install(|| run(scene, acc, options))
-        }
-    }
+    super::in_pool(options.threads, || run(scene, acc, options))
 }
 
 fn run(
