@@ -14,7 +14,7 @@ cd "$(dirname "$0")/.."
 sampler=${1:-sobol}
 out=${2:-target/convergence}
 ref=../shared/references/cornell-box/reference-tungsten.exr
-bin=target/release/lucent
+bin=${LUCENT_BIN:-target/release/lucent}
 mkdir -p "$out"
 img="$out/cornell-$sampler.exr"
 rm -f "$img" "$img.ckpt"
