@@ -74,6 +74,11 @@ fn closest_of(prims: &[Primitive], ray: &Ray, t_max: &mut f32, closest: &mut Opt
 
 impl Aggregate for BvhAggregate {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
+        if let ([only], []) = (self.bounded.as_slice(), self.unbounded.as_slice()) {
+            // One primitive (such as the mesh a scene's loose triangles
+            // were merged into): its own bounds test is all the BVH adds.
+            return only.intersect(ray, t_max);
+        }
         let mut t_max = t_max;
         let mut closest = None;
         closest_of(&self.unbounded, ray, &mut t_max, &mut closest);
@@ -86,6 +91,9 @@ impl Aggregate for BvhAggregate {
     }
 
     fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
+        if let ([only], []) = (self.bounded.as_slice(), self.unbounded.as_slice()) {
+            return only.intersect_p(ray, t_max);
+        }
         if self.unbounded.iter().any(|p| p.intersect_p(ray, t_max)) {
             return true;
         }

@@ -105,9 +105,12 @@ impl AreaLight {
         let (p_light, n_light, pdf) = match self.shape {
             AreaShape::Sphere { center, radius } => sample_sphere(center, radius, ctx.p, u)?,
             AreaShape::Triangle(v) => {
-                let omega = triangle_solid_angle(v, ctx.p);
+                // Unit vectors towards the corners, shared by the solid
+                // angle and the sampling routine.
+                let abc = v.map(|x| (x - ctx.p).normalize_or_zero());
+                let omega = solid_angle_of_directions(abc);
                 if spherical_sampling(omega) {
-                    let wi = sample_spherical_triangle(v, ctx.p, u)?;
+                    let wi = sample_spherical_triangle(abc, omega, u)?;
                     // Where the direction meets the triangle's plane.
                     let n = triangle_normal(v)?;
                     let denom = n.dot(wi);
@@ -310,9 +313,13 @@ fn sample_triangle_area(v: [Vec3; 3], u: Vec2) -> Vec3 {
 /// Trans. Biomed. Eng. 30(2), 1983): with unit vectors `a`, `b`, `c`
 /// towards the corners, `tan(Ω/2) = |a · (b × c)| / (1 + a·b + b·c + c·a)`.
 pub fn triangle_solid_angle(v: [Vec3; 3], p: Vec3) -> f32 {
-    let a = (v[0] - p).normalize_or_zero();
-    let b = (v[1] - p).normalize_or_zero();
-    let c = (v[2] - p).normalize_or_zero();
+    solid_angle_of_directions(v.map(|x| (x - p).normalize_or_zero()))
+}
+
+/// [`triangle_solid_angle`] from the unit vectors towards the corners (0
+/// if one is zero).
+#[inline]
+fn solid_angle_of_directions([a, b, c]: [Vec3; 3]) -> f32 {
     if a == Vec3::ZERO || b == Vec3::ZERO || c == Vec3::ZERO {
         return 0.0;
     }
@@ -321,26 +328,15 @@ pub fn triangle_solid_angle(v: [Vec3; 3], p: Vec3) -> f32 {
     (2.0 * num.atan2(den)).max(0.0)
 }
 
-/// The angle between unit vectors, accurate for nearly parallel and nearly
-/// opposite vectors (uses the chord length rather than `acos` of the dot
-/// product, as PBRT 4th ed. §3.3.2 does).
-#[inline]
-fn angle_between(a: Vec3, b: Vec3) -> f32 {
-    if a.dot(b) < 0.0 {
-        PI - 2.0 * ((a + b).length() / 2.0).min(1.0).asin()
-    } else {
-        2.0 * ((b - a).length() / 2.0).min(1.0).asin()
-    }
-}
-
 /// `v` made orthogonal to unit `w` and normalised (Gram–Schmidt).
 #[inline]
 fn orthonormal_to(v: Vec3, w: Vec3) -> Vec3 {
     (v - v.dot(w) * w).normalize_or_zero()
 }
 
-/// A direction from `p` uniformly distributed over the spherical triangle
-/// that the triangle `v` subtends, by Arvo's method (SIGGRAPH 1995):
+/// A direction uniformly distributed over the spherical triangle with
+/// corners at the unit vectors `a`, `b`, `c` and area (solid angle) `area`,
+/// by Arvo's method (SIGGRAPH 1995):
 ///
 /// 1. Choose the area `Â = u₀ · Ω` of a sub-triangle `A B Ĉ` with `Ĉ` on
 ///    the arc `AC`; with `α` the angle at `A` and `c` the arc `AB`, the
@@ -349,29 +345,27 @@ fn orthonormal_to(v: Vec3, w: Vec3) -> Vec3 {
 ///    `s = sin(Â − α)`, `t = cos(Â − α)`, `u = t − cos α`,
 ///    `v = s + sin α cos c`.
 /// 2. Choose a point on the arc `B Ĉ` with `cos θ = 1 − u₁ (1 − Ĉ·B)`.
-fn sample_spherical_triangle(v: [Vec3; 3], p: Vec3, u: Vec2) -> Option<Vec3> {
-    let a = (v[0] - p).normalize_or_zero();
-    let b = (v[1] - p).normalize_or_zero();
-    let c = (v[2] - p).normalize_or_zero();
-    // Normals of the great circles through the edges.
+///
+/// The area is the solid angle of Van Oosterom & Strackee that the pdf
+/// `1/Ω` also uses (equal to Girard's angle excess `α + β + γ − π`), so
+/// only the angle at `A` is needed, and only through its sine and cosine:
+/// those come from the great-circle normals of the edges at `A`, and
+/// `sin(Â − α)`, `cos(Â − α)` from the angle-difference identities, with
+/// no inverse trigonometric function.
+fn sample_spherical_triangle([a, b, c]: [Vec3; 3], area: f32, u: Vec2) -> Option<Vec3> {
+    // Normals of the great circles through AB and AC; the angle at A is
+    // the angle between n_ab and −n_ca.
     let n_ab = a.cross(b).normalize_or_zero();
-    let n_bc = b.cross(c).normalize_or_zero();
     let n_ca = c.cross(a).normalize_or_zero();
-    if n_ab == Vec3::ZERO || n_bc == Vec3::ZERO || n_ca == Vec3::ZERO {
+    if n_ab == Vec3::ZERO || n_ca == Vec3::ZERO || area.is_nan() || area <= 0.0 {
         return None;
     }
-    // Interior angles: between the planes of the two edges at each corner.
-    let alpha = angle_between(n_ab, -n_ca);
-    let beta = angle_between(n_bc, -n_ab);
-    let gamma = angle_between(n_ca, -n_bc);
-    // Girard's theorem: the area is the angle excess.
-    let area = alpha + beta + gamma - PI;
-    if area.is_nan() || area <= 0.0 {
-        return None;
-    }
-    let a_hat = u.x * area;
-    let (s, t) = (a_hat - alpha).sin_cos();
-    let (sin_alpha, cos_alpha) = alpha.sin_cos();
+    let cos_alpha = (-n_ab.dot(n_ca)).clamp(-1.0, 1.0);
+    let sin_alpha = n_ab.cross(n_ca).length().min(1.0);
+    let (sin_a, cos_a) = (u.x * area).sin_cos();
+    // s = sin(Â − α), t = cos(Â − α).
+    let s = sin_a * cos_alpha - cos_a * sin_alpha;
+    let t = cos_a * cos_alpha + sin_a * sin_alpha;
     let uu = t - cos_alpha;
     let vv = s + sin_alpha * a.dot(b);
     let den = (vv * s + uu * t) * sin_alpha;

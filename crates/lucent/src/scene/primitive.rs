@@ -19,13 +19,18 @@ pub struct Primitive {
     /// For emissive primitives: the index of the area light of face 0 in
     /// the scene's area lights (face `i` is `first + i`).
     area_light: Option<u32>,
+    /// For merged meshes: the area light of each face, or [`NO_LIGHT`].
+    face_lights: Option<Arc<[u32]>>,
 }
+
+/// In a per-face light table: the face does not emit.
+pub(crate) const NO_LIGHT: u32 = u32::MAX;
 
 impl Primitive {
     /// Place `shape` in the world with `transform` (object to world).
     pub fn new(shape: impl Into<Shape>, transform: Transform, material: MaterialId) -> Self {
         let transform = (!transform.is_identity()).then_some(transform);
-        Self { shape: shape.into(), transform, material, face_materials: None, area_light: None }
+        Self { shape: shape.into(), transform, material, face_materials: None, area_light: None, face_lights: None }
     }
 
     /// Give a mesh's faces the materials its file assigns them:
@@ -40,6 +45,15 @@ impl Primitive {
     /// `first + i` (see [`crate::scene::Scene::add_emissive`]).
     pub(crate) fn with_area_light(mut self, first: u32) -> Self {
         self.area_light = Some(first);
+        self
+    }
+
+    /// Give each face its own area light: `table[face]` is the index of its
+    /// area light in the scene, or [`NO_LIGHT`] (used for the meshes that
+    /// loose triangles are merged into, whose faces come from different
+    /// primitives).
+    pub(crate) fn with_face_lights(mut self, table: Arc<[u32]>) -> Self {
+        self.face_lights = Some(table);
         self
     }
 
@@ -108,7 +122,10 @@ impl Primitive {
             ns,
             uv: hit.uv,
             material: self.material_at(hit.face),
-            light: self.area_light.map(|first| first + hit.face),
+            light: match &self.face_lights {
+                None => self.area_light.map(|first| first + hit.face),
+                Some(table) => table.get(hit.face as usize).copied().filter(|&l| l != NO_LIGHT),
+            },
         })
     }
 

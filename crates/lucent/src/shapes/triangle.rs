@@ -64,6 +64,11 @@ impl Triangle {
         self.n
     }
 
+    /// The unit per-vertex normals of a smooth triangle; `None` for a flat one.
+    pub fn normals(&self) -> Option<[Vec3; 3]> {
+        self.normals
+    }
+
     /// Object-space bounds.
     pub fn bounds(&self) -> Bounds3 {
         Bounds3::from_points(self.p[0], self.p[1]).union_point(self.p[2])
