@@ -201,13 +201,13 @@ pub(crate) fn flip_z(w: Vec3) -> Vec3 {
     Vec3::new(w.x, w.y, -w.z)
 }
 
-/// Evaluate a reflection-only BxDF two-sidedly: `f_upper` is its value for
-/// `wo` above the surface; a pair below is mirrored up, a pair on opposite
-/// sides reflects nothing.
+/// Evaluate a reflection-only BxDF's value or pdf two-sidedly: `f_upper`
+/// is the quantity for `wo` above the surface; a pair below is mirrored up,
+/// a pair on opposite sides gets zero (`T::default()`).
 #[inline]
-pub(crate) fn two_sided(wo: Vec3, wi: Vec3, f_upper: impl Fn(Vec3, Vec3) -> Color) -> Color {
+pub(crate) fn two_sided<T: Default>(wo: Vec3, wi: Vec3, f_upper: impl Fn(Vec3, Vec3) -> T) -> T {
     if !same_hemisphere(wo, wi) {
-        Color::ZERO
+        T::default()
     } else if wo.z < 0.0 {
         f_upper(flip_z(wo), flip_z(wi))
     } else {

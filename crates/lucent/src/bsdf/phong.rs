@@ -21,7 +21,7 @@
 //! the side of `wo`, so it is exactly the density of the returned samples.
 //! Reflection only, two-sided.
 
-use super::{flip_z, same_hemisphere, two_sided, BsdfSample, Frame};
+use super::{flip_z, two_sided, BsdfSample, Frame};
 use crate::color::Color;
 use crate::geometry::{Vec2, Vec3};
 use crate::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
@@ -136,13 +136,6 @@ impl PhongBxdf {
 
     /// Mixture pdf of the diffuse and glossy lobes.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if !same_hemisphere(wo, wi) {
-            return 0.0;
-        }
-        if wo.z < 0.0 {
-            self.pdf_upper(flip_z(wo), flip_z(wi))
-        } else {
-            self.pdf_upper(wo, wi)
-        }
+        two_sided(wo, wi, |wo, wi| self.pdf_upper(wo, wi))
     }
 }

@@ -31,7 +31,7 @@
 
 use super::fresnel::{fr_dielectric, fr_dielectric_hemispherical};
 use super::microfacet::TrowbridgeReitz;
-use super::{flip_z, reflect, same_hemisphere, two_sided, BsdfSample};
+use super::{flip_z, reflect, two_sided, BsdfSample};
 use crate::color::Color;
 use crate::geometry::{Vec2, Vec3};
 use crate::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
@@ -159,14 +159,7 @@ impl PlasticBxdf {
 
     /// Mixture pdf of the coat (if rough) and the base.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if !same_hemisphere(wo, wi) {
-            return 0.0;
-        }
-        if wo.z < 0.0 {
-            self.pdf_upper(flip_z(wo), flip_z(wi))
-        } else {
-            self.pdf_upper(wo, wi)
-        }
+        two_sided(wo, wi, |wo, wi| self.pdf_upper(wo, wi))
     }
 }
 
