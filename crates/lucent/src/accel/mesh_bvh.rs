@@ -1,7 +1,7 @@
 //! A BVH over the triangles of one mesh, in the mesh's object space: the
 //! bottom level of lucent's two-level acceleration structure.
 
-use super::bvh::{BoxRay, Bvh};
+use super::bvh::{prefetch, BoxRay, Bvh};
 use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::mesh::TriangleMesh;
 use crate::shapes::watertight::{intersect_block, TriangleBlock, WatertightRay};
@@ -87,6 +87,13 @@ impl MeshBvh {
         self.bvh.memory_bytes() + self.blocks.capacity() * std::mem::size_of::<TriangleBlock>()
     }
 
+    /// Start loading block `b` into the caches (its 160 bytes span three
+    /// cache lines).
+    #[inline(always)]
+    fn prefetch_block(&self, b: u32) {
+        prefetch(self.blocks.as_ptr().wrapping_add(b as usize), 3);
+    }
+
     /// The closest hit with `t ∈ [t_min, t_max]`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<MeshHit> {
@@ -94,17 +101,23 @@ impl MeshBvh {
         let tri_ray = WatertightRay::new(ray);
         let mut t_max = t_max;
         let mut best = None;
-        self.bvh.traverse_closest(&box_ray, t_min, &mut t_max, |block, _, t_max| {
-            let block = &self.blocks[block as usize];
-            match intersect_block(&tri_ray, block, t_min, *t_max) {
-                Some((lane, h)) => {
-                    *t_max = h.t;
-                    best = Some(MeshHit { t: h.t, triangle: block.ids[lane], b: h.b });
-                    true
+        self.bvh.traverse_closest(
+            &box_ray,
+            t_min,
+            &mut t_max,
+            |b| self.prefetch_block(b),
+            |block, _, t_max| {
+                let block = &self.blocks[block as usize];
+                match intersect_block(&tri_ray, block, t_min, *t_max) {
+                    Some((lane, h)) => {
+                        *t_max = h.t;
+                        best = Some(MeshHit { t: h.t, triangle: block.ids[lane], b: h.b });
+                        true
+                    }
+                    None => false,
                 }
-                None => false,
-            }
-        });
+            },
+        );
         best
     }
 
@@ -113,8 +126,12 @@ impl MeshBvh {
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         let box_ray = BoxRay::new(ray.origin, ray.dir);
         let tri_ray = WatertightRay::new(ray);
-        self.bvh.traverse_any(&box_ray, t_min, t_max, |block, _| {
-            intersect_block(&tri_ray, &self.blocks[block as usize], t_min, t_max).is_some()
-        })
+        self.bvh.traverse_any(
+            &box_ray,
+            t_min,
+            t_max,
+            |b| self.prefetch_block(b),
+            |block, _| intersect_block(&tri_ray, &self.blocks[block as usize], t_min, t_max).is_some(),
+        )
     }
 }

@@ -84,9 +84,15 @@ impl Aggregate for BvhAggregate {
         closest_of(&self.unbounded, ray, &mut t_max, &mut closest);
         let box_ray = BoxRay::new(ray.origin, ray.dir);
         // Box tests use a closed interval; primitives keep t < t_max open.
-        self.bvh.traverse_closest(&box_ray, 0.0, &mut t_max, |first, count, t_max| {
-            closest_of(&self.bounded[first as usize..(first + count) as usize], ray, t_max, &mut closest)
-        });
+        self.bvh.traverse_closest(
+            &box_ray,
+            0.0,
+            &mut t_max,
+            |_| {},
+            |first, count, t_max| {
+                closest_of(&self.bounded[first as usize..(first + count) as usize], ray, t_max, &mut closest)
+            },
+        );
         closest
     }
 
@@ -98,9 +104,15 @@ impl Aggregate for BvhAggregate {
             return true;
         }
         let box_ray = BoxRay::new(ray.origin, ray.dir);
-        self.bvh.traverse_any(&box_ray, 0.0, t_max, |first, count| {
-            self.bounded[first as usize..(first + count) as usize].iter().any(|p| p.intersect_p(ray, t_max))
-        })
+        self.bvh.traverse_any(
+            &box_ray,
+            0.0,
+            t_max,
+            |_| {},
+            |first, count| {
+                self.bounded[first as usize..(first + count) as usize].iter().any(|p| p.intersect_p(ray, t_max))
+            },
+        )
     }
 
     fn bounds(&self) -> Bounds3 {
