@@ -56,9 +56,30 @@ pub const MAX_LEAF_SIZE: usize = 4;
 const BIN_COUNT: usize = 16;
 /// Nodes with more primitives than this build their children in parallel.
 const PARALLEL_THRESHOLD: usize = 4096;
-/// Cost of one box test relative to one primitive test, for the SAH.
-const TRAVERSAL_COST: f32 = 3.0;
-const INTERSECTION_COST: f32 = 1.0;
+/// How the surface area heuristic prices a tree: the cost of visiting a
+/// node (four box tests at once) relative to testing one leaf block, and how
+/// many primitives a block tests at once.
+#[derive(Clone, Copy, Debug)]
+struct SahCosts {
+    traversal: f32,
+    block_size: usize,
+}
+
+impl SahCosts {
+    /// Primitives tested one at a time (the top level of the scene): a
+    /// node's four box tests cost about as much as three primitive tests.
+    const PER_PRIMITIVE: SahCosts = SahCosts { traversal: 3.0, block_size: 1 };
+    /// Leaves tested as one four-lane block (triangle meshes): a block test
+    /// costs about what a node test costs, and a leaf of 1 to 4 triangles
+    /// costs one block, so the heuristic favours splits into multiples of
+    /// four (Embree's builders count leaf cost in blocks the same way).
+    const PER_BLOCK: SahCosts = SahCosts { traversal: 1.0, block_size: MAX_LEAF_SIZE };
+
+    /// Cost of testing `n` primitives in a leaf.
+    fn leaf(&self, n: usize) -> f32 {
+        n.div_ceil(self.block_size) as f32
+    }
+}
 /// Binary-tree depth beyond which the builder stops using the SAH and
 /// splits at the median, so that no input can make the tree deeper than
 /// about `MAX_SAH_DEPTH + log2(n)` levels.
@@ -276,7 +297,7 @@ fn bounds_of(prims: &[BuildPrim]) -> (Bounds3, Bounds3) {
     prims.iter().fold((Bounds3::EMPTY, Bounds3::EMPTY), |(b, c), p| (b.union(&p.bounds), c.union_point(p.centroid)))
 }
 
-fn build_recursive(prims: &mut [BuildPrim], first: usize, depth: usize) -> BuildNode {
+fn build_recursive(prims: &mut [BuildPrim], first: usize, depth: usize, costs: SahCosts) -> BuildNode {
     let (bounds, centroid_bounds) = if prims.len() > PARALLEL_THRESHOLD {
         use rayon::prelude::*;
         prims
@@ -305,7 +326,7 @@ fn build_recursive(prims: &mut [BuildPrim], first: usize, depth: usize) -> Build
             return leaf();
         }
         let mid = n / 2;
-        return split_at(prims, first, mid, bounds, depth);
+        return split_at(prims, first, mid, bounds, depth, costs);
     }
     if depth >= MAX_SAH_DEPTH {
         // Too deep for the SAH's taste (an adversarial input): halve by the
@@ -315,7 +336,7 @@ fn build_recursive(prims: &mut [BuildPrim], first: usize, depth: usize) -> Build
         }
         let mid = n / 2;
         prims.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
-        return split_at(prims, first, mid, bounds, depth);
+        return split_at(prims, first, mid, bounds, depth, costs);
     }
 
     // Bin the centroids and evaluate the SAH at every bin boundary.
@@ -346,15 +367,15 @@ fn build_recursive(prims: &mut [BuildPrim], first: usize, depth: usize) -> Build
         if acc_n == 0 || right_count[i + 1] == 0 {
             continue;
         }
-        let cost = surface_area(&acc_b) * acc_n as f32 + right_area[i + 1] * right_count[i + 1] as f32;
+        let cost = surface_area(&acc_b) * costs.leaf(acc_n) + right_area[i + 1] * costs.leaf(right_count[i + 1]);
         if cost < best_cost {
             best_cost = cost;
             best_split = i;
         }
     }
     let parent_area = surface_area(&bounds).max(f32::MIN_POSITIVE);
-    let split_cost = TRAVERSAL_COST + INTERSECTION_COST * best_cost / parent_area;
-    let leaf_cost = INTERSECTION_COST * n as f32;
+    let split_cost = costs.traversal + best_cost / parent_area;
+    let leaf_cost = costs.leaf(n);
     if n <= MAX_LEAF_SIZE && leaf_cost <= split_cost {
         return leaf();
     }
@@ -369,25 +390,45 @@ fn build_recursive(prims: &mut [BuildPrim], first: usize, depth: usize) -> Build
     if left == 0 || left == n {
         left = n / 2;
     }
-    split_at(prims, first, left, bounds, depth)
+    split_at(prims, first, left, bounds, depth, costs)
 }
 
-fn split_at(prims: &mut [BuildPrim], first: usize, mid: usize, bounds: Bounds3, depth: usize) -> BuildNode {
+fn split_at(
+    prims: &mut [BuildPrim],
+    first: usize,
+    mid: usize,
+    bounds: Bounds3,
+    depth: usize,
+    costs: SahCosts,
+) -> BuildNode {
     let (l, r) = prims.split_at_mut(mid);
     let (a, b) = if l.len() + r.len() > PARALLEL_THRESHOLD {
-        rayon::join(|| build_recursive(l, first, depth + 1), || build_recursive(r, first + mid, depth + 1))
+        rayon::join(
+            || build_recursive(l, first, depth + 1, costs),
+            || build_recursive(r, first + mid, depth + 1, costs),
+        )
     } else {
-        (build_recursive(l, first, depth + 1), build_recursive(r, first + mid, depth + 1))
+        (build_recursive(l, first, depth + 1, costs), build_recursive(r, first + mid, depth + 1, costs))
     };
     let size = 1 + a.node_count() + b.node_count();
     BuildNode::Interior { bounds, children: Box::new([a, b]), size }
 }
 
 impl Bvh {
-    /// Build over `bounds[i]` for every primitive `i`. Empty or infinite
-    /// boxes (e.g. of degenerate primitives) are left out. Uses the current
-    /// rayon pool.
+    /// Build over `bounds[i]` for every primitive `i`, for leaves whose
+    /// primitives are tested one at a time. Empty or infinite boxes (e.g. of
+    /// degenerate primitives) are left out. Uses the current rayon pool.
     pub fn build(bounds: &[Bounds3]) -> Self {
+        Self::build_with(bounds, SahCosts::PER_PRIMITIVE)
+    }
+
+    /// As [`Bvh::build`], for leaves tested as one block of up to
+    /// [`MAX_LEAF_SIZE`] primitives at once (see [`MeshBvh`](super::MeshBvh)).
+    pub fn build_for_blocks(bounds: &[Bounds3]) -> Self {
+        Self::build_with(bounds, SahCosts::PER_BLOCK)
+    }
+
+    fn build_with(bounds: &[Bounds3], costs: SahCosts) -> Self {
         let mut prims: Vec<BuildPrim> = bounds
             .iter()
             .enumerate()
@@ -397,7 +438,7 @@ impl Bvh {
         if prims.is_empty() {
             return Self::default();
         }
-        let root = build_recursive(&mut prims, 0, 0);
+        let root = build_recursive(&mut prims, 0, 0, costs);
         let mut nodes = Vec::with_capacity(root.node_count() / 2 + 1);
         // The root node holds the root as its only child (or the root's
         // children, when the root is interior).

@@ -48,7 +48,7 @@ impl MeshBvh {
                 }
             })
             .collect();
-        let mut bvh = Bvh::build(&bounds);
+        let mut bvh = Bvh::build_for_blocks(&bounds);
         let triangle_count = bvh.primitives().len();
         // One block per leaf, in leaf order; leaves then name their block.
         let mut leaves = Vec::new();

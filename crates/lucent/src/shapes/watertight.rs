@@ -162,8 +162,12 @@ pub fn intersect_triangle(r: &WatertightRay, p: &[Vec3; 3], t_min: f32, t_max: f
 /// watertight test runs on all four at once in four-lane SIMD arithmetic
 /// (the layout of Embree's `Triangle4`). Unused lanes repeat the first
 /// triangle, so they can only report a hit the first lane reports too.
+///
+/// 160 bytes, aligned to 32 so that a block always spans exactly three
+/// cache lines (with 16-byte alignment, every other block of an array
+/// straddles four).
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[repr(C, align(16))]
+#[repr(C, align(32))]
 pub struct TriangleBlock {
     /// `p[corner][axis]`: that coordinate of that corner for the four
     /// triangles.
@@ -171,6 +175,8 @@ pub struct TriangleBlock {
     /// Index of each lane's triangle in its mesh.
     pub ids: [u32; 4],
 }
+
+const _: () = assert!(std::mem::size_of::<TriangleBlock>() == 160);
 
 impl TriangleBlock {
     /// A block of one to four triangles with their indices.
