@@ -18,7 +18,7 @@ pub struct MeshHit {
     pub b: [f32; 3],
 }
 
-/// A four-wide BVH whose leaves are blocks of up to four triangles.
+/// An eight-wide BVH whose leaves are blocks of up to four triangles.
 ///
 /// Each leaf's triangles are copied out of the index buffer into one
 /// [`TriangleBlock`] (160 bytes: coordinates by lane, and the triangles'

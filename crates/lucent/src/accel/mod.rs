@@ -7,7 +7,7 @@
 mod bvh;
 mod mesh_bvh;
 
-pub use bvh::{BoxRay, Bvh, BvhNode, MAX_LEAF_SIZE};
+pub use bvh::{BoxRay, Bvh, BvhNode, MAX_LEAF_SIZE, WIDTH};
 pub use mesh_bvh::{MeshBvh, MeshHit};
 
 use crate::geometry::{Bounds3, Ray};
