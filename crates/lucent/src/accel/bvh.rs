@@ -555,8 +555,8 @@ impl Bvh {
     /// roughly front to back. Returns whether anything was hit.
     ///
     /// `prefetch_leaf(first)` is called for a leaf that is put aside to be
-    /// tested later, so that its primitives can be prefetched (see
-    /// [`prefetch`]); `|_| {}` is always correct.
+    /// tested later, so that its primitives can be fetched into the caches
+    /// meanwhile; `|_| {}` is always correct.
     #[inline]
     pub fn traverse_closest<F, P>(&self, ray: &BoxRay, t_min: f32, t_max: &mut f32, prefetch_leaf: P, test: F) -> bool
     where

@@ -8,7 +8,7 @@
 mod path;
 mod whitted;
 
-pub use path::{power_heuristic, PathIntegrator};
+pub use path::{power_heuristic, PathIntegrator, RR_DEPTH};
 pub use whitted::WhittedIntegrator;
 
 use crate::color::Color;
