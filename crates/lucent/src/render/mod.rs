@@ -1,6 +1,6 @@
 //! The parallel render loops: [`render`] for the classic integrator (all
 //! samples of a pixel at once), [`render_progressive`] for the path tracer
-//! (passes of samples into an [`Accumulator`], with time budgets,
+//! (passes of samples into an [`Accumulator`](crate::film::Accumulator), with time budgets,
 //! checkpoints and resumption).
 
 mod progressive;

@@ -272,7 +272,7 @@ impl Scene {
     /// `[[quad]]` entries are) are merged into world-space meshes first, so
     /// that they are intersected four at a time by the meshes' SIMD
     /// triangle blocks rather than one by one through the top-level BVH;
-    /// see [`merge_loose_triangles`]. [`Scene::primitives`] is unchanged.
+    /// see `merge_loose_triangles` in this module. [`Scene::primitives`] is unchanged.
     pub fn aggregate(&self) -> &BvhAggregate {
         self.aggregate.get_or_init(|| BvhAggregate::new(&merge_loose_triangles(&self.primitives)))
     }
