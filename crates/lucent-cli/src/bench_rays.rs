@@ -141,6 +141,7 @@ fn run_on_mesh(args: &BenchRaysArgs, mesh: &TriangleMesh) -> Result<(), String> 
         frame,
         build_times,
         accel_bytes: bvh.memory_bytes(),
+        huge_pages: bvh.huge_pages_advised(),
         primary: SetResult { rays: primary.len(), count: primary_hits, tsum: primary_tsum, times: primary_times },
         shadow: SetResult { rays: shadow.len(), count: shadow_occluded, tsum: 0.0, times: shadow_times },
         incoherent: SetResult {
@@ -347,6 +348,8 @@ struct Report<'a> {
     /// Sorted.
     build_times: Vec<f64>,
     accel_bytes: usize,
+    /// Whether the structure's memory was advised for huge pages.
+    huge_pages: bool,
     primary: SetResult,
     shadow: SetResult,
     incoherent: SetResult,
@@ -381,8 +384,12 @@ impl Report<'_> {
             ("incoherent_tsum", json!(self.incoherent.tsum)),
             ("vertices", json!(self.vertices)),
             ("bbox", json!(self.bbox())),
-            ("api", json!("MeshBvh::intersect/occluded (binned-SAH BVH, watertight triangle test), one ray at a time")),
+            (
+                "api",
+                json!("MeshBvh::intersect/occluded (binned-SAH eight-wide BVH, watertight triangle test), one ray at a time"),
+            ),
             ("accel_bytes", json!(self.accel_bytes)),
+            ("huge_pages", json!(self.huge_pages)),
             ("build_s_range", json!([significant(b[0], 4), significant(b[b.len() - 1], 4)])),
             ("primary_mrays_range", json!(self.primary.mrays_range())),
             ("shadow_mrays_range", json!(self.shadow.mrays_range())),
@@ -404,7 +411,7 @@ impl Report<'_> {
             self.vertices
         )?;
         say!(
-            "lucent-{}, {} thread{}: build {:.4} s (median of {BUILDS}, {:.4} to {:.4}), {:.1} MB ({:.1} bytes/triangle)",
+            "lucent-{}, {} thread{}: build {:.4} s (median of {BUILDS}, {:.4} to {:.4}), {:.1} MB ({:.1} bytes/triangle{})",
             env!("CARGO_PKG_VERSION"),
             self.threads,
             if self.threads == 1 { "" } else { "s" },
@@ -412,7 +419,8 @@ impl Report<'_> {
             b[0],
             b[b.len() - 1],
             self.accel_bytes as f64 / 1e6,
-            self.accel_bytes as f64 / self.triangles as f64
+            self.accel_bytes as f64 / self.triangles as f64,
+            if self.huge_pages { ", advised for huge pages" } else { "" }
         )?;
         say!(
             "{:<11} {:>9} {:>9} {:>9} {:>19}  {}",

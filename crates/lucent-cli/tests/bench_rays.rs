@@ -97,6 +97,8 @@ fn json_line_has_every_key_and_the_counts_of_the_sphere() {
     }
     assert_eq!(r["implementation"], format!("lucent-{}", env!("CARGO_PKG_VERSION")));
     assert_eq!(r["mesh"], "sphere:8:16");
+    // A small structure stays on ordinary pages.
+    assert_eq!(r["huge_pages"], false);
     // 2 + (STACKS-1)·SLICES vertices, 2·SLICES·(STACKS-1) triangles.
     assert_eq!(r["vertices"], 2 + 7 * 16);
     assert_eq!(r["triangles"], 2 * 16 * 7);

@@ -21,6 +21,7 @@
 //! that rounding can never make a ray miss a box it touches (PBRT 4th ed.,
 //! §6.8.2).
 
+use super::pages::{PageArray, ZeroIsValid};
 use crate::geometry::{gamma, Bounds3, Vec3};
 use glam::Vec4;
 
@@ -47,6 +48,9 @@ pub struct BvhNode {
     pub count: [u32; WIDTH],
 }
 
+// SAFETY: a node is floats and integers only.
+unsafe impl ZeroIsValid for BvhNode {}
+
 const EMPTY_NODE: BvhNode = BvhNode {
     lo: [[Vec4::INFINITY; GROUPS]; 3],
     hi: [[Vec4::NEG_INFINITY; GROUPS]; 3],
@@ -58,7 +62,7 @@ const EMPTY_NODE: BvhNode = BvhNode {
 /// it was built from.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
-    nodes: Vec<BvhNode>,
+    nodes: PageArray<BvhNode>,
     /// Primitive indices in leaf order.
     primitives: Vec<u32>,
     bounds: Option<Bounds3>,
@@ -492,15 +496,14 @@ impl Bvh {
         }
         let root = build_recursive(&mut prims, 0, 0, costs);
         // A wide node replaces at least one binary interior node, and there
-        // are (n - 1) of those for n binary leaves: reserve for that, then
-        // give back what the collapse saved.
+        // are (n - 1) of those for n binary leaves: reserve for that (the
+        // final array holds just the nodes made).
         let mut nodes = Vec::with_capacity(root.node_count() / 2 + 1);
         // The root node holds the root as its only child (or the root's
         // children, when the root is interior).
         flatten(&root, &mut nodes);
-        nodes.shrink_to_fit();
         let primitives = prims.iter().map(|p| p.index).collect();
-        Self { nodes, primitives, bounds: Some(root.bounds()) }
+        Self { nodes: PageArray::from_vec(nodes), primitives, bounds: Some(root.bounds()) }
     }
 
     /// The flattened nodes; the root is node 0.
@@ -531,7 +534,7 @@ impl Bvh {
 
     /// Heap bytes used by nodes and the primitive list.
     pub fn memory_bytes(&self) -> usize {
-        self.nodes.capacity() * std::mem::size_of::<BvhNode>() + self.primitives.capacity() * 4
+        self.nodes.len() * std::mem::size_of::<BvhNode>() + self.primitives.capacity() * 4
     }
 
     /// Rewrite every leaf's reference: `f(first, count)` receives the
@@ -539,7 +542,7 @@ impl Bvh {
     /// traversal callbacks will receive as `first` instead (e.g. the index
     /// of a block of primitives stored in leaf order elsewhere).
     pub fn remap_leaves(&mut self, mut f: impl FnMut(u32, u32) -> u32) {
-        for node in &mut self.nodes {
+        for node in self.nodes.iter_mut() {
             for i in 0..WIDTH {
                 if node.count[i] > 0 {
                     node.child[i] = f(node.child[i], node.count[i]);

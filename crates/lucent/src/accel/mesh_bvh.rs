@@ -2,6 +2,7 @@
 //! bottom level of lucent's two-level acceleration structure.
 
 use super::bvh::{prefetch, BoxRay, Bvh};
+use super::pages::PageArray;
 use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::mesh::TriangleMesh;
 use crate::shapes::watertight::{intersect_block, TriangleBlock, WatertightRay};
@@ -28,7 +29,7 @@ pub struct MeshHit {
 #[derive(Clone, Debug, Default)]
 pub struct MeshBvh {
     bvh: Bvh,
-    blocks: Vec<TriangleBlock>,
+    blocks: PageArray<TriangleBlock>,
     triangle_count: usize,
 }
 
@@ -57,17 +58,14 @@ impl MeshBvh {
             leaves.len() as u32 - 1
         });
         let primitives = bvh.primitives();
-        let blocks = leaves
-            .par_iter()
-            .with_min_len(256)
-            .map(|&(first, count)| {
-                let tris: Vec<([Vec3; 3], u32)> = primitives[first as usize..(first + count) as usize]
-                    .iter()
-                    .map(|&i| (mesh.triangle(i as usize), i))
-                    .collect();
-                TriangleBlock::new(&tris)
-            })
-            .collect();
+        let mut blocks = PageArray::zeroed(leaves.len());
+        blocks.par_iter_mut().zip(leaves.par_iter()).with_min_len(256).for_each(|(block, &(first, count))| {
+            let tris: Vec<([Vec3; 3], u32)> = primitives[first as usize..(first + count) as usize]
+                .iter()
+                .map(|&i| (mesh.triangle(i as usize), i))
+                .collect();
+            *block = TriangleBlock::new(&tris);
+        });
         bvh.clear_primitives();
         Self { bvh, blocks, triangle_count }
     }
@@ -84,7 +82,14 @@ impl MeshBvh {
 
     /// Heap bytes: nodes and triangle blocks.
     pub fn memory_bytes(&self) -> usize {
-        self.bvh.memory_bytes() + self.blocks.capacity() * std::mem::size_of::<TriangleBlock>()
+        self.bvh.memory_bytes() + self.blocks.len() * std::mem::size_of::<TriangleBlock>()
+    }
+
+    /// Whether the triangle blocks are on memory advised for 2 MiB pages
+    /// (large meshes on Linux; whether the kernel grants them depends on its
+    /// transparent huge page policy).
+    pub fn huge_pages_advised(&self) -> bool {
+        self.blocks.is_mapped()
     }
 
     /// Start loading block `b` into the caches (its 160 bytes span three

@@ -6,6 +6,9 @@
 
 mod bvh;
 mod mesh_bvh;
+mod pages;
+
+pub(crate) use pages::ZeroIsValid;
 
 pub use bvh::{BoxRay, Bvh, BvhNode, MAX_LEAF_SIZE, WIDTH};
 pub use mesh_bvh::{MeshBvh, MeshHit};

@@ -178,6 +178,9 @@ pub struct TriangleBlock {
 
 const _: () = assert!(std::mem::size_of::<TriangleBlock>() == 160);
 
+// SAFETY: a block is floats and integers only.
+unsafe impl crate::accel::ZeroIsValid for TriangleBlock {}
+
 impl TriangleBlock {
     /// A block of one to four triangles with their indices.
     pub fn new(triangles: &[([Vec3; 3], u32)]) -> Self {
