@@ -23,7 +23,7 @@
 
 use super::pages::{PageArray, ZeroIsValid};
 use crate::geometry::{gamma, Bounds3, Vec3};
-use glam::Vec4;
+use glam::{Vec3A, Vec4};
 
 /// Children per node.
 pub const WIDTH: usize = 8;
@@ -315,9 +315,49 @@ fn sort_keys(k: &mut [u32; WIDTH], n: usize) {
     }
 }
 
+/// A box for the builder, in 16-byte SIMD vectors: a union is one `minps`
+/// and one `maxps` (glam's `Vec3::min` is three scalar minimums with NaN
+/// handling; the builder's boxes are finite).
+#[derive(Clone, Copy, Debug)]
+struct Aabb {
+    lo: Vec3A,
+    hi: Vec3A,
+}
+
+impl Aabb {
+    const EMPTY: Aabb = Aabb { lo: Vec3A::INFINITY, hi: Vec3A::NEG_INFINITY };
+
+    #[inline(always)]
+    fn union(&self, o: &Aabb) -> Aabb {
+        Aabb { lo: self.lo.min(o.lo), hi: self.hi.max(o.hi) }
+    }
+
+    #[inline(always)]
+    fn union_point(&self, p: Vec3A) -> Aabb {
+        Aabb { lo: self.lo.min(p), hi: self.hi.max(p) }
+    }
+
+    #[inline(always)]
+    fn centroid(&self) -> Vec3A {
+        0.5 * (self.lo + self.hi)
+    }
+
+    /// Surface area; 0 for an empty box.
+    fn area(&self) -> f32 {
+        let d = self.hi - self.lo;
+        if d.cmplt(Vec3A::ZERO).any() {
+            return 0.0;
+        }
+        2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
+    }
+
+    fn to_bounds(self) -> Bounds3 {
+        Bounds3 { min: self.lo.into(), max: self.hi.into() }
+    }
+}
+
 struct BuildPrim {
-    bounds: Bounds3,
-    centroid: Vec3,
+    bounds: Aabb,
     index: u32,
 }
 
@@ -349,8 +389,9 @@ fn surface_area(b: &Bounds3) -> f32 {
     2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
 }
 
-fn bounds_of(prims: &[BuildPrim]) -> (Bounds3, Bounds3) {
-    prims.iter().fold((Bounds3::EMPTY, Bounds3::EMPTY), |(b, c), p| (b.union(&p.bounds), c.union_point(p.centroid)))
+/// The bounds of the primitives' boxes and of their centroids.
+fn bounds_of(prims: &[BuildPrim]) -> (Aabb, Aabb) {
+    prims.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| (b.union(&p.bounds), c.union_point(p.bounds.centroid())))
 }
 
 fn build_recursive(prims: &mut [BuildPrim], first: usize, depth: usize, costs: SahCosts) -> BuildNode {
@@ -359,16 +400,17 @@ fn build_recursive(prims: &mut [BuildPrim], first: usize, depth: usize, costs: S
         prims
             .par_chunks(PARALLEL_THRESHOLD)
             .map(bounds_of)
-            .reduce(|| (Bounds3::EMPTY, Bounds3::EMPTY), |(a, b), (c, d)| (a.union(&c), b.union(&d)))
+            .reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |(a, b), (c, d)| (a.union(&c), b.union(&d)))
     } else {
         bounds_of(prims)
     };
     let n = prims.len();
-    let leaf = || BuildNode::Leaf { bounds, first, count: n };
+    let node_bounds = bounds.to_bounds();
+    let leaf = || BuildNode::Leaf { bounds: node_bounds, first, count: n };
     if n == 1 {
         return leaf();
     }
-    let extent = centroid_bounds.max - centroid_bounds.min;
+    let extent = centroid_bounds.hi - centroid_bounds.lo;
     let axis = if extent.x >= extent.y && extent.x >= extent.z {
         0
     } else if extent.y >= extent.z {
@@ -382,7 +424,7 @@ fn build_recursive(prims: &mut [BuildPrim], first: usize, depth: usize, costs: S
             return leaf();
         }
         let mid = n / 2;
-        return split_at(prims, first, mid, bounds, depth, costs);
+        return split_at(prims, first, mid, node_bounds, depth, costs);
     }
     if depth >= MAX_SAH_DEPTH {
         // Too deep for the SAH's taste (an adversarial input): halve by the
@@ -391,15 +433,18 @@ fn build_recursive(prims: &mut [BuildPrim], first: usize, depth: usize, costs: S
             return leaf();
         }
         let mid = n / 2;
-        prims.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
-        return split_at(prims, first, mid, bounds, depth, costs);
+        let key = |p: &BuildPrim| p.bounds.centroid().to_array()[axis];
+        prims.select_nth_unstable_by(mid, |a, b| key(a).total_cmp(&key(b)));
+        return split_at(prims, first, mid, node_bounds, depth, costs);
     }
 
     // Bin the centroids and evaluate the SAH at every bin boundary.
-    let lo = centroid_bounds.min[axis];
+    let lo = centroid_bounds.lo[axis];
     let scale = BIN_COUNT as f32 / extent[axis];
-    let bin_of = |p: &BuildPrim| (((p.centroid[axis] - lo) * scale) as usize).min(BIN_COUNT - 1);
-    let mut bin_bounds = [Bounds3::EMPTY; BIN_COUNT];
+    // `to_array()[axis]`, not `centroid[axis]`: glam's variable indexing
+    // is a chain of branches, and this runs for every primitive twice.
+    let bin_of = |p: &BuildPrim| (((p.bounds.centroid().to_array()[axis] - lo) * scale) as usize).min(BIN_COUNT - 1);
+    let mut bin_bounds = [Aabb::EMPTY; BIN_COUNT];
     let mut bin_counts = [0usize; BIN_COUNT];
     for p in prims.iter() {
         let b = bin_of(p);
@@ -408,28 +453,28 @@ fn build_recursive(prims: &mut [BuildPrim], first: usize, depth: usize, costs: S
     }
     let mut right_area = [0.0f32; BIN_COUNT];
     let mut right_count = [0usize; BIN_COUNT];
-    let (mut acc_b, mut acc_n) = (Bounds3::EMPTY, 0);
+    let (mut acc_b, mut acc_n) = (Aabb::EMPTY, 0);
     for i in (1..BIN_COUNT).rev() {
         acc_b = acc_b.union(&bin_bounds[i]);
         acc_n += bin_counts[i];
-        right_area[i] = surface_area(&acc_b);
+        right_area[i] = acc_b.area();
         right_count[i] = acc_n;
     }
     let (mut best_cost, mut best_split) = (f32::INFINITY, 0);
-    let (mut acc_b, mut acc_n) = (Bounds3::EMPTY, 0);
+    let (mut acc_b, mut acc_n) = (Aabb::EMPTY, 0);
     for i in 0..BIN_COUNT - 1 {
         acc_b = acc_b.union(&bin_bounds[i]);
         acc_n += bin_counts[i];
         if acc_n == 0 || right_count[i + 1] == 0 {
             continue;
         }
-        let cost = surface_area(&acc_b) * costs.leaf(acc_n) + right_area[i + 1] * costs.leaf(right_count[i + 1]);
+        let cost = acc_b.area() * costs.leaf(acc_n) + right_area[i + 1] * costs.leaf(right_count[i + 1]);
         if cost < best_cost {
             best_cost = cost;
             best_split = i;
         }
     }
-    let parent_area = surface_area(&bounds).max(f32::MIN_POSITIVE);
+    let parent_area = bounds.area().max(f32::MIN_POSITIVE);
     let split_cost = costs.traversal + best_cost / parent_area;
     let leaf_cost = costs.leaf(n);
     if n <= MAX_LEAF_SIZE && leaf_cost <= split_cost {
@@ -446,7 +491,7 @@ fn build_recursive(prims: &mut [BuildPrim], first: usize, depth: usize, costs: S
     if left == 0 || left == n {
         left = n / 2;
     }
-    split_at(prims, first, left, bounds, depth, costs)
+    split_at(prims, first, left, node_bounds, depth, costs)
 }
 
 fn split_at(
@@ -489,7 +534,7 @@ impl Bvh {
             .iter()
             .enumerate()
             .filter(|(_, b)| !b.is_empty() && !b.is_infinite())
-            .map(|(i, b)| BuildPrim { bounds: *b, centroid: 0.5 * (b.min + b.max), index: i as u32 })
+            .map(|(i, b)| BuildPrim { bounds: Aabb { lo: b.min.into(), hi: b.max.into() }, index: i as u32 })
             .collect();
         if prims.is_empty() {
             return Self::default();
