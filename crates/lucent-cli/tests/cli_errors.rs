@@ -3,10 +3,13 @@
 //! and column where the format has them, what is wrong, what is accepted),
 //! a non-zero exit status, no panic, and no partial or clobbered image.
 
+mod common;
+
+use common::*;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 use tempfile::TempDir;
 
 /// A small, valid scene: renders 8×8 at 1 spp in a few milliseconds.
@@ -42,74 +45,6 @@ const SCENE_JSON: &str = r#"{
 }
 "#;
 
-/// The outcome of one run of the program.
-struct Run {
-    code: Option<i32>,
-    stdout: String,
-    stderr: String,
-    elapsed: Duration,
-}
-
-/// Run `lucent` with `args` in `dir`.
-fn lucent(dir: &Path, args: &[&str]) -> Run {
-    let start = Instant::now();
-    let out = Command::new(env!("CARGO_BIN_EXE_lucent"))
-        .args(args)
-        .current_dir(dir)
-        // With the variable unset a panic prints a note naming it, which the
-        // checks below look for.
-        .env_remove("RUST_BACKTRACE")
-        .output()
-        .expect("the lucent binary runs");
-    Run {
-        code: out.status.code(),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-        elapsed: start.elapsed(),
-    }
-}
-
-fn assert_no_panic(run: &Run) {
-    for bad in ["panicked", "RUST_BACKTRACE", "stack backtrace"] {
-        assert!(!run.stderr.contains(bad), "stderr mentions {bad:?}:\n{}", run.stderr);
-        assert!(!run.stdout.contains(bad), "stdout mentions {bad:?}:\n{}", run.stdout);
-    }
-}
-
-/// Assert that `run` failed with exit status `code`, a one-screen message
-/// starting with `error:`, and every one of `expected` in that message.
-#[track_caller]
-fn assert_fails_with(run: &Run, code: i32, expected: &[&str]) {
-    assert_no_panic(run);
-    assert_eq!(run.code, Some(code), "exit status; stderr:\n{}", run.stderr);
-    assert!(run.stderr.starts_with("error:"), "stderr does not start with `error:`:\n{}", run.stderr);
-    let lines = run.stderr.lines().count();
-    assert!(lines <= 12, "the message takes {lines} lines:\n{}", run.stderr);
-    for want in expected {
-        assert!(run.stderr.contains(want), "stderr lacks {want:?}:\n{}", run.stderr);
-    }
-}
-
-/// Assert a scene error (exit status 1).
-#[track_caller]
-fn assert_error(run: &Run, expected: &[&str]) {
-    assert_fails_with(run, 1, expected);
-    assert!(run.stdout.is_empty(), "stdout on failure:\n{}", run.stdout);
-}
-
-#[track_caller]
-fn assert_success(run: &Run) {
-    assert_no_panic(run);
-    assert_eq!(run.code, Some(0), "exit status; stderr:\n{}", run.stderr);
-}
-
-/// `text` with `from` (which must occur exactly once) replaced by `to`.
-#[track_caller]
-fn edit(text: &str, from: &str, to: &str) -> String {
-    assert_eq!(text.matches(from).count(), 1, "{from:?} should occur once in the fixture");
-    text.replace(from, to)
-}
-
 /// "LINE:COL" (1-based; columns in characters) of the first occurrence of
 /// `needle` in `text`, for checking the location in a message.
 #[track_caller]
@@ -126,17 +61,6 @@ fn loc(text: &str, needle: &str) -> String {
 fn line(text: &str, needle: &str) -> usize {
     let at = text.find(needle).unwrap_or_else(|| panic!("{needle:?} not in the fixture"));
     text[..at].matches('\n').count() + 1
-}
-
-/// "LINE:COL" of `needle` inside the first occurrence of `context`.
-#[track_caller]
-fn loc_in(text: &str, context: &str, needle: &str) -> String {
-    let at = text.find(context).unwrap_or_else(|| panic!("{context:?} not in the fixture"));
-    let within = context.find(needle).unwrap_or_else(|| panic!("{needle:?} not in {context:?}"));
-    let prefix = &text[..at + within];
-    let line = prefix.matches('\n').count() + 1;
-    let line_start = prefix.rfind('\n').map_or(0, |i| i + 1);
-    format!("{line}:{}", prefix[line_start..].chars().count() + 1)
 }
 
 /// The excerpt a message shows for the line holding `needle`: "N | text".

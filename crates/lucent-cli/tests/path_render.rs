@@ -6,10 +6,12 @@
 //! pixel filters) with their errors.
 
 use lucent::film::read_image;
+mod common;
+
+use common::*;
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 use tempfile::TempDir;
 
 /// A small path-traced scene: a floor, a gold and a glass sphere, a quad
@@ -87,68 +89,6 @@ material = "red"
 position = [5, 5, -5]
 "#;
 
-/// The outcome of one run of the program.
-struct Run {
-    code: Option<i32>,
-    stdout: String,
-    stderr: String,
-    elapsed: Duration,
-}
-
-fn assert_no_panic(run: &Run) {
-    for bad in ["panicked", "RUST_BACKTRACE", "stack backtrace"] {
-        assert!(!run.stderr.contains(bad), "stderr mentions {bad:?}:\n{}", run.stderr);
-        assert!(!run.stdout.contains(bad), "stdout mentions {bad:?}:\n{}", run.stdout);
-    }
-}
-
-#[track_caller]
-fn assert_success(run: &Run) {
-    assert_no_panic(run);
-    assert_eq!(run.code, Some(0), "exit status; stdout:\n{}\nstderr:\n{}", run.stdout, run.stderr);
-}
-
-/// Assert that `run` failed with exit status `code`, a short message
-/// starting with `error:`, and every one of `expected` in that message.
-#[track_caller]
-fn assert_fails_with(run: &Run, code: i32, expected: &[&str]) {
-    assert_no_panic(run);
-    assert_eq!(run.code, Some(code), "exit status; stderr:\n{}", run.stderr);
-    assert!(run.stderr.starts_with("error:"), "stderr does not start with `error:`:\n{}", run.stderr);
-    let lines = run.stderr.lines().count();
-    assert!(lines <= 12, "the message takes {lines} lines:\n{}", run.stderr);
-    for want in expected {
-        assert!(run.stderr.contains(want), "stderr lacks {want:?}:\n{}", run.stderr);
-    }
-}
-
-/// A failure other than a command-line parse error (exit status 1), with
-/// nothing on stdout.
-#[track_caller]
-fn assert_error(run: &Run, expected: &[&str]) {
-    assert_fails_with(run, 1, expected);
-    assert!(run.stdout.is_empty(), "stdout on failure:\n{}", run.stdout);
-}
-
-/// `text` with `from` (which must occur exactly once) replaced by `to`.
-#[track_caller]
-fn edit(text: &str, from: &str, to: &str) -> String {
-    assert_eq!(text.matches(from).count(), 1, "{from:?} should occur once in the fixture");
-    text.replace(from, to)
-}
-
-/// "LINE:COL" (1-based; columns in characters) of `needle` inside the
-/// first occurrence of `context`.
-#[track_caller]
-fn loc_in(text: &str, context: &str, needle: &str) -> String {
-    let at = text.find(context).unwrap_or_else(|| panic!("{context:?} not in the fixture"));
-    let within = context.find(needle).unwrap_or_else(|| panic!("{needle:?} not in {context:?}"));
-    let prefix = &text[..at + within];
-    let line = prefix.matches('\n').count() + 1;
-    let line_start = prefix.rfind('\n').map_or(0, |i| i + 1);
-    format!("{line}:{}", prefix[line_start..].chars().count() + 1)
-}
-
 struct Fixture {
     dir: TempDir,
 }
@@ -173,19 +113,7 @@ impl Fixture {
     }
 
     fn run(&self, args: &[&str]) -> Run {
-        let start = Instant::now();
-        let out = Command::new(env!("CARGO_BIN_EXE_lucent"))
-            .args(args)
-            .current_dir(self.path())
-            .env_remove("RUST_BACKTRACE")
-            .output()
-            .expect("the lucent binary runs");
-        Run {
-            code: out.status.code(),
-            stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-            stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-            elapsed: start.elapsed(),
-        }
+        lucent(self.path(), args)
     }
 
     /// Run `lucent render SCENE -o OUTPUT EXTRA...`.
