@@ -6,30 +6,17 @@
 //! The runs use small meshes and the hidden `--passes 1`, so that each one
 //! takes well under a second in a release build.
 
+mod common;
+
+use common::Run;
 use serde_json::Value;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-/// The outcome of one run of the program.
-struct Run {
-    code: Option<i32>,
-    stdout: String,
-    stderr: String,
-}
-
+/// Run `lucent bench-rays ARGS`.
 fn lucent(args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_lucent"))
-        .arg("bench-rays")
-        .args(args)
-        .env_remove("RUST_BACKTRACE")
-        .output()
-        .expect("the lucent binary runs");
-    Run {
-        code: out.status.code(),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
+    common::lucent(Path::new("."), &[&["bench-rays"][..], args].concat())
 }
 
 #[track_caller]

@@ -2,10 +2,12 @@
 //! images with hand-computed errors, its JSON, the heat map, and clean
 //! failures (missing file, not an image, different sizes).
 
+mod common;
+
+use common::{assert_fails_with, lucent, Run};
 use lucent::color::Color;
 use lucent::film::{Film, PendingImage, ToneMap};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 use tempfile::TempDir;
 
 /// Write a `w`×`h` EXR (linear f32) with the given pixels.
@@ -19,30 +21,11 @@ fn write_exr(dir: &Path, name: &str, w: u32, h: u32, pixels: &[[f32; 3]]) -> Pat
     path
 }
 
-fn lucent(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lucent"))
-        .args(args)
-        .current_dir(dir)
-        .env_remove("RUST_BACKTRACE")
-        .output()
-        .expect("the lucent binary runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
-/// Assert a clean failure: non-zero status, `error:` and each of `expected`
-/// on stderr, no panic.
-fn assert_fails(out: &Output, expected: &[&str]) {
-    let stderr = text(&out.stderr);
-    assert!(!out.status.success(), "succeeded: {}", text(&out.stdout));
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(stderr.starts_with("error: "), "{stderr}");
-    for e in expected {
-        assert!(stderr.contains(e), "stderr lacks {e:?}:\n{stderr}");
-    }
-    assert!(!stderr.contains("panicked"), "{stderr}");
+/// Assert a clean failure: status 1, `error:` and each of `expected` on
+/// stderr, no panic.
+#[track_caller]
+fn assert_fails(run: &Run, expected: &[&str]) {
+    assert_fails_with(run, 1, expected);
 }
 
 /// A = reference + errors at two places; the figures by hand:
@@ -62,8 +45,8 @@ fn prints_hand_computed_figures() {
     let dir = TempDir::new().unwrap();
     pair(dir.path());
     let out = lucent(dir.path(), &["diff", "a.exr", "ref.exr"]);
-    let stdout = text(&out.stdout);
-    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = out.stdout.clone();
+    assert!((out.code == Some(0)), "{}", out.stderr);
     let mse = 0.29 / 12.0;
     let rel = (0.25 / 1.01 + 0.8) / 12.0;
     let expected = format!("MSE {mse:.4e}  relMSE {rel:.4e}  max |a−b| {:.4e} at (1, 0) channel g", 0.5);
@@ -75,8 +58,8 @@ fn json_has_the_documented_keys() {
     let dir = TempDir::new().unwrap();
     pair(dir.path());
     let out = lucent(dir.path(), &["diff", "a.exr", "ref.exr", "--json"]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!((out.code == Some(0)), "{}", out.stderr);
+    let v: serde_json::Value = serde_json::from_str(&out.stdout).unwrap();
     let close = |key: &str, want: f64| {
         let got = v[key].as_f64().unwrap_or_else(|| panic!("{key} missing in {v}"));
         assert!((got - want).abs() <= 1e-6 * want.abs().max(1e-3), "{key}: {got} vs {want}");
@@ -95,7 +78,7 @@ fn identical_images_have_zero_error() {
     let dir = TempDir::new().unwrap();
     pair(dir.path());
     let out = lucent(dir.path(), &["diff", "ref.exr", "ref.exr", "--json"]);
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&out.stdout).unwrap();
     assert_eq!(
         (v["mse"].as_f64(), v["rel_mse"].as_f64(), v["max_abs_error"].as_f64()),
         (Some(0.0), Some(0.0), Some(0.0))
@@ -108,12 +91,12 @@ fn nonfinite_pixels_are_counted() {
     write_exr(dir.path(), "nan.exr", 2, 1, &[[f32::NAN, 0.0, 0.0], [0.0, 0.0, 0.1]]);
     write_exr(dir.path(), "ref.exr", 2, 1, &[[0.0; 3], [0.0; 3]]);
     let out = lucent(dir.path(), &["diff", "nan.exr", "ref.exr", "--json"]);
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&out.stdout).unwrap();
     assert_eq!(v["nonfinite"], 1);
     // Only pixel (1, 0) is compared: 0.01 / 3.
     assert!((v["mse"].as_f64().unwrap() - 0.01 / 3.0).abs() < 1e-7, "{v}");
     let out = lucent(dir.path(), &["diff", "nan.exr", "ref.exr"]);
-    assert!(text(&out.stdout).contains("non-finite pixels (left out): 1 in 'nan.exr', 0 in 'ref.exr'"));
+    assert!(out.stdout.contains("non-finite pixels (left out): 1 in 'nan.exr', 0 in 'ref.exr'"));
 }
 
 #[test]
@@ -126,7 +109,7 @@ fn png_is_decoded_from_srgb() {
     PendingImage::create(dir.path().join("grey.png")).unwrap().write(&film, ToneMap::Clamp, true).unwrap();
     write_exr(dir.path(), "grey.exr", 1, 1, &[[0.2; 3]]);
     let out = lucent(dir.path(), &["diff", "grey.png", "grey.exr", "--json"]);
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&out.stdout).unwrap();
     assert!(v["max_abs_error"].as_f64().unwrap() < 2e-3, "{v}");
 }
 
@@ -135,7 +118,7 @@ fn writes_a_heat_map() {
     let dir = TempDir::new().unwrap();
     pair(dir.path());
     let out = lucent(dir.path(), &["diff", "a.exr", "ref.exr", "--heatmap", "heat.png"]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!((out.code == Some(0)), "{}", out.stderr);
     let heat = lucent::film::read_image(dir.path().join("heat.png")).unwrap();
     assert_eq!((heat.width(), heat.height()), (2, 2));
     // Error-free pixels are black, the others not.
