@@ -14,7 +14,8 @@ struct Measurement {
 pub fn run(args: &BenchArgs) -> Result<(), String> {
     let mut file = crate::load(args.scene.as_deref())?;
     crate::apply_overrides(&mut file, &args.overrides)?;
-    let scene = file.build().map_err(|e| e.to_string())?;
+    let loaded = file.build().map_err(|e| e.to_string())?;
+    let (scene, settings) = (&loaded.scene, &loaded.settings);
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut counts = args.threads.clone();
     if counts.is_empty() {
@@ -31,8 +32,8 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
     let mut rays = vec![0u64; counts.len()];
     for _ in 0..args.repeats {
         for (i, &threads) in counts.iter().enumerate() {
-            let out =
-                render(&scene, &RenderOptions { threads: Some(threads), progress: None }).map_err(|e| e.to_string())?;
+            let options = RenderOptions { threads: Some(threads), ..Default::default() };
+            let out = render(scene, settings, options).map_err(|e| e.to_string())?;
             seconds[i].push(out.elapsed.as_secs_f64());
             rays[i] = out.stats.total();
         }
@@ -49,7 +50,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
 
     let base = results[0].median_mrays;
     // Camera samples (paths, for the path tracer) per render.
-    let samples = scene.camera.width() as f64 * scene.camera.height() as f64 * scene.settings.spp as f64;
+    let samples = scene.camera().width() as f64 * scene.camera().height() as f64 * settings.spp as f64;
     let name = args.scene.as_ref().map_or_else(|| "<built-in showcase>".to_owned(), |p| p.display().to_string());
     if args.json {
         let rows: Vec<serde_json::Value> = results
@@ -67,9 +68,9 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             .collect();
         let report = serde_json::json!({
             "scene": name,
-            "width": scene.camera.width(),
-            "height": scene.camera.height(),
-            "spp": scene.settings.spp,
+            "width": scene.camera().width(),
+            "height": scene.camera().height(),
+            "spp": settings.spp,
             "repeats": args.repeats,
             "results": rows,
         });
@@ -77,10 +78,10 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
     } else {
         say!(
             "{name}: {}×{}, {} spp, {} integrator, median of {} renders",
-            scene.camera.width(),
-            scene.camera.height(),
-            scene.settings.spp,
-            match scene.settings.integrator {
+            scene.camera().width(),
+            scene.camera().height(),
+            settings.spp,
+            match settings.integrator {
                 lucent::render::IntegratorKind::Whitted => "whitted",
                 lucent::render::IntegratorKind::Path => "path",
             },

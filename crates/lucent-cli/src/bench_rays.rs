@@ -3,7 +3,7 @@
 //! lucent's mesh BVH can be compared with the Embree reference
 //! (`embree_ref.cpp`) on bit-identical rays.
 //!
-//! Untimed: loading the mesh ([`lucent::mesh::load_raybench_mesh`]), the
+//! Untimed: loading the mesh ([`lucent::tools::load_raybench_mesh`]), the
 //! frame, generating the ray sets ([`rays`]) and printing. Timed: three
 //! builds of a [`MeshBvh`] from scratch (median reported, the last one
 //! traced), then for each set (primary, shadow, incoherent) one untimed
@@ -16,9 +16,9 @@ mod dump;
 mod rays;
 
 use crate::cli::BenchRaysArgs;
-use lucent::accel::MeshBvh;
 use lucent::geometry::{Ray, Vec3};
 use lucent::mesh::TriangleMesh;
+use lucent::shapes::MeshBvh;
 use rayon::ThreadPool;
 use rays::{Frame, RayRecord};
 use serde_json::{json, Value};
@@ -32,7 +32,7 @@ const CHUNK: usize = 4096;
 
 /// Runs `lucent bench-rays`.
 pub fn run(args: &BenchRaysArgs) -> Result<(), String> {
-    let mesh = lucent::mesh::load_raybench_mesh(&args.mesh).map_err(|e| e.to_string())?;
+    let mesh = lucent::tools::load_raybench_mesh(&args.mesh).map_err(|e| e.to_string())?;
     run_on_mesh(args, &mesh)
 }
 

@@ -105,7 +105,7 @@ pub struct SceneOverrides {
     /// Light transport algorithm (overrides the scene).
     #[arg(long, value_enum)]
     pub integrator: Option<IntegratorArg>,
-    /// Sample sequence of the path integrator (overrides the scene).
+    /// Sample sequence (overrides the scene).
     #[arg(long, value_enum)]
     pub sampler: Option<SamplerArg>,
     /// Most bounces, 0 to 10000 (overrides the scene).
@@ -125,7 +125,9 @@ pub enum IntegratorArg {
 /// `--sampler` values.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SamplerArg {
-    /// Owen-scrambled Sobol (low discrepancy).
+    /// The classic jittered grid (the Whitted integrator's default).
+    Stratified,
+    /// Owen-scrambled Sobol (low discrepancy; the path tracer's default).
     Sobol,
     /// Independent random numbers.
     Independent,
@@ -149,16 +151,16 @@ pub struct RenderArgs {
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,
-    /// Path tracer: render for this many seconds (stopping after the last
+    /// Render for this many seconds (stopping after the last
     /// pass that fits), up to --spp if that is given too.
     #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
     pub time: Option<f64>,
-    /// Path tracer: every SECONDS, write the image so far to the output and
+    /// Every SECONDS, write the image so far to the output and
     /// the accumulated samples to OUTPUT.ckpt, so the render can be watched
     /// and resumed.
     #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
     pub checkpoint_every: Option<f64>,
-    /// Path tracer: continue from OUTPUT.ckpt (an interrupted render, or a
+    /// Continue from OUTPUT.ckpt (an interrupted render, or a
     /// finished one to which --spp adds samples); the result is identical
     /// to rendering in one go.
     #[arg(long)]

@@ -1,7 +1,8 @@
 //! `lucent diff`: error figures of an image against a reference image.
 
 use clap::Args;
-use lucent::film::{compare, read_image, relative_squared_error, CompareError, Film, PendingImage, ToneMap};
+use lucent::film::{Film, PendingImage, ToneMap};
+use lucent::tools::{compare, read_image, relative_squared_error, CompareError};
 use std::path::PathBuf;
 
 /// Compare an image with a reference: MSE, relative MSE (relative to the

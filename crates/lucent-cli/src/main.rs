@@ -13,15 +13,13 @@ mod bench;
 mod bench_rays;
 mod cli;
 mod diff;
-mod path_render;
 mod progress;
+mod render;
 mod sky;
 
 use clap::Parser;
 use cli::{Cli, Command, RenderArgs};
-use lucent::film::PendingImage;
-use lucent::render::{render, RenderOptions};
-use lucent::scene::{SceneFile, SceneFormat};
+use lucent::loader::{SceneFile, SceneFormat};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -60,33 +58,35 @@ pub fn load(path: Option<&Path>) -> Result<SceneFile, String> {
 /// on the command line is checked here, so that an error names the options
 /// rather than a line of the file.
 pub fn apply_overrides(file: &mut SceneFile, args: &cli::SceneOverrides) -> Result<(), String> {
+    use lucent::loader::{ImageDimension, IntegratorDesc, MaxDepth, SampleCount, SamplerDesc};
     let r = &mut file.description.render;
     if let Some(w) = args.width {
-        r.width = lucent::scene::ImageDimension(w);
+        r.width = ImageDimension(w);
     }
     if let Some(h) = args.height {
-        r.height = lucent::scene::ImageDimension(h);
+        r.height = ImageDimension(h);
     }
     if let Some(spp) = args.spp {
-        r.spp = lucent::scene::SampleCount(spp);
+        r.spp = SampleCount(spp);
     }
     if let Some(seed) = args.seed {
         r.seed = seed;
     }
     if let Some(i) = args.integrator {
         r.integrator = match i {
-            cli::IntegratorArg::Whitted => lucent::scene::IntegratorDesc::Whitted,
-            cli::IntegratorArg::Path => lucent::scene::IntegratorDesc::Path,
+            cli::IntegratorArg::Whitted => IntegratorDesc::Whitted,
+            cli::IntegratorArg::Path => IntegratorDesc::Path,
         };
     }
     if let Some(s) = args.sampler {
-        r.sampler = match s {
-            cli::SamplerArg::Sobol => lucent::scene::SamplerDesc::Sobol,
-            cli::SamplerArg::Independent => lucent::scene::SamplerDesc::Independent,
-        };
+        r.sampler = Some(match s {
+            cli::SamplerArg::Stratified => SamplerDesc::Stratified,
+            cli::SamplerArg::Sobol => SamplerDesc::Sobol,
+            cli::SamplerArg::Independent => SamplerDesc::Independent,
+        });
     }
     if let Some(d) = args.max_depth {
-        r.max_depth = Some(lucent::scene::MaxDepth(d));
+        r.max_depth = Some(MaxDepth(d));
     }
     if args.width.is_some() || args.height.is_some() {
         lucent::film::check_image_size(r.width.0, r.height.0).map_err(|e| {
@@ -101,56 +101,19 @@ pub fn apply_overrides(file: &mut SceneFile, args: &cli::SceneOverrides) -> Resu
 }
 
 fn run_render(args: &RenderArgs) -> Result<(), String> {
+    render::handle_interrupts();
     let mut file = load(args.scene.as_deref())?;
     apply_overrides(&mut file, &args.overrides)?;
-    let scene = file.build().map_err(|e| e.to_string())?;
-    warn(&scene, args.quiet);
-
+    let loaded = file.build().map_err(|e| e.to_string())?;
+    warn(&loaded.scene, args.quiet);
     let out_path = args.output.clone().unwrap_or_else(|| default_output(args.scene.as_deref()));
-    if scene.settings.integrator == lucent::render::IntegratorKind::Path {
-        return path_render::run(args, &file, &scene, &out_path);
-    }
-    for (flag, given) in [
-        ("--time", args.time.is_some()),
-        ("--checkpoint-every", args.checkpoint_every.is_some()),
-        ("--resume", args.resume),
-    ] {
-        if given {
-            return Err(format!(
-                "{flag} needs the path integrator (set `integrator = \"path\"` in [render], or --integrator path)"
-            ));
-        }
-    }
-    // Reserve the output before rendering: a bad path fails now, not after
-    // the render, and the existing file is untouched until the new one is
-    // complete.
-    let pending = PendingImage::create(&out_path).map_err(|e| e.to_string())?;
-
-    let bar = progress::RowProgress::new(scene.camera.height() as u64, args.quiet);
-    let report = |done: usize, _total: usize| bar.set(done as u64);
-    let options = RenderOptions { threads: args.threads.filter(|&t| t > 0), progress: Some(&report) };
-    let output = render(&scene, &options).map_err(|e| e.to_string())?;
-    bar.finish();
-
-    pending.write(&output.film, scene.settings.tone_map, scene.settings.srgb).map_err(|e| e.to_string())?;
-    if !args.quiet {
-        say!(
-            "{}: {}×{}, {} spp, {:.2} s, {:.1} M rays, {:.2} Mrays/s",
-            out_path.display(),
-            scene.camera.width(),
-            scene.camera.height(),
-            scene.settings.spp,
-            output.elapsed.as_secs_f64(),
-            output.stats.total() as f64 / 1e6,
-            output.mrays_per_second()
-        )?;
-    }
-    Ok(())
+    render::run(args, &file, &loaded, &out_path)
 }
 
 fn run_check(path: &Path) -> Result<(), String> {
-    let scene = SceneFile::load(path).and_then(|f| f.build()).map_err(|e| e.to_string())?;
-    warn(&scene, false);
+    let loaded = SceneFile::load(path).and_then(|f| f.build()).map_err(|e| e.to_string())?;
+    let (scene, settings) = (&loaded.scene, &loaded.settings);
+    warn(scene, false);
     let count = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
     say!(
         "{}: ok ({}, {}, {}, {}×{}, {} spp)",
@@ -158,9 +121,9 @@ fn run_check(path: &Path) -> Result<(), String> {
         count(scene.primitives().len(), "object"),
         count(scene.materials().len(), "material"),
         count(scene.lights().len() + scene.area_lights().len() + scene.environment().is_some() as usize, "light"),
-        scene.camera.width(),
-        scene.camera.height(),
-        scene.settings.spp
+        scene.camera().width(),
+        scene.camera().height(),
+        settings.spp
     )?;
     Ok(())
 }
@@ -168,7 +131,7 @@ fn run_check(path: &Path) -> Result<(), String> {
 /// Print the scene's non-fatal problems (skipped degenerate triangles...).
 fn warn(scene: &lucent::scene::Scene, quiet: bool) {
     if !quiet {
-        for w in &scene.warnings {
+        for w in scene.warnings() {
             eprintln!("warning: {w}");
         }
     }

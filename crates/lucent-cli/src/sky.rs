@@ -4,7 +4,7 @@
 
 use crate::cli::{SkyArgs, SkyKind};
 use lucent::film::{ImageFormat, PendingImage, ToneMap};
-use lucent::light::sky::{sky, studio, SkyParams};
+use lucent::tools::sky::{sky, studio, SkyParams};
 
 /// Run `lucent sky`.
 pub fn run(args: &SkyArgs) -> Result<(), String> {

@@ -119,7 +119,7 @@ fn writes_a_heat_map() {
     pair(dir.path());
     let out = lucent(dir.path(), &["diff", "a.exr", "ref.exr", "--heatmap", "heat.png"]);
     assert!((out.code == Some(0)), "{}", out.stderr);
-    let heat = lucent::film::read_image(dir.path().join("heat.png")).unwrap();
+    let heat = lucent::tools::read_image(dir.path().join("heat.png")).unwrap();
     assert_eq!((heat.width(), heat.height()), (2, 2));
     // Error-free pixels are black, the others not.
     assert_eq!(heat.pixel(0, 0), Color::ZERO);

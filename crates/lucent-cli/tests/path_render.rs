@@ -5,7 +5,7 @@
 //! path tracer (area lights, physically based materials, environments,
 //! pixel filters) with their errors.
 
-use lucent::film::read_image;
+use lucent::tools::read_image;
 mod common;
 
 use common::*;
@@ -418,24 +418,78 @@ fn time_budget_with_checkpoints_keeps_every_sample() {
 
 // ---------------------------------------------------- refusals and parsing --
 
+/// Start `lucent render` in the fixture's directory, let it run for
+/// `after`, then send it `signal` (`INT` as Ctrl-C does, or `TERM`).
+fn render_and_signal(f: &Fixture, args: &[&str], signal: &str, after: std::time::Duration) -> Run {
+    let start = std::time::Instant::now();
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_lucent"))
+        .args(args)
+        .current_dir(f.path())
+        .env_remove("RUST_BACKTRACE")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the lucent binary runs");
+    std::thread::sleep(after);
+    let kill = std::process::Command::new("kill").args([&format!("-{signal}"), &child.id().to_string()]).status();
+    assert!(kill.is_ok_and(|s| s.success()), "kill -{signal} failed");
+    let out = child.wait_with_output().expect("lucent ends");
+    Run {
+        code: out.status.code(),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        elapsed: start.elapsed(),
+    }
+}
+
+/// Ctrl-C (SIGINT) or SIGTERM stops a render cleanly: no temporary file
+/// and no image are left, the samples of the finished passes are kept as a
+/// checkpoint, and resuming from it gives the image of one uninterrupted
+/// render.
 #[test]
-fn path_options_need_the_path_integrator() {
+fn interrupting_a_render_keeps_a_resumable_checkpoint() {
+    let f = path_fixture();
+    for signal in ["INT", "TERM"] {
+        let out = format!("{signal}.exr");
+        let args = ["render", "scene.toml", "-o", &out, "--spp", "1000000"];
+        let run = render_and_signal(&f, &args, signal, std::time::Duration::from_millis(1500));
+        assert_error(&run, &["interrupted after", &format!("{out}.ckpt"), "--resume"]);
+        assert!(!f.file(&out).exists(), "no image is written by an interrupted render");
+        f.assert_no_temporaries();
+        let done = checkpoint_spp(&f.file(&format!("{out}.ckpt")));
+        assert!(done >= 1, "at least the first one-sample pass is kept");
+        let target = (done + 2).to_string();
+        let run = f.render_ok("scene.toml", &out, &["--spp", &target, "--resume"]);
+        assert!(run.stdout.contains(&format!("{done} resumed + 2 now")), "{}", run.stdout);
+        f.render_ok("scene.toml", "fresh.exr", &["--spp", &target]);
+        assert_eq!(f.bits(&out), f.bits("fresh.exr"), "{signal}: the resumed render differs");
+    }
+    f.assert_no_temporaries();
+}
+
+/// The Whitted integrator runs through the same loop: time budgets,
+/// checkpoints and resuming work for it too, bit-identically.
+#[test]
+fn whitted_renders_resume_bit_identically() {
     let f = Fixture::new();
     f.write("classic.toml", CLASSIC_SCENE);
-    f.write("scene.toml", PATH_SCENE);
-    for (flag, args) in [
-        ("--time", &["--time", "1"][..]),
-        ("--checkpoint-every", &["--checkpoint-every", "1"]),
-        ("--resume", &["--resume"]),
-    ] {
-        let run = f.render("classic.toml", "out.png", args);
-        assert_error(&run, &[flag, "path integrator", "--integrator path"]);
-        let mut with_override = vec!["--integrator", "whitted"];
-        with_override.extend_from_slice(args);
-        let run = f.render("scene.toml", "out.png", &with_override);
-        assert_error(&run, &[flag, "path integrator"]);
-    }
-    assert!(!f.file("out.png").exists());
+    f.render_ok("classic.toml", "a.exr", &["--spp", "9"]);
+    // A time budget too short for more than the first pass, then resumed
+    // with the same --spp: the stratified grid of 9 is completed.
+    let run = f.render_ok("classic.toml", "b.exr", &["--spp", "9", "--time", "0.000001", "--checkpoint-every", "100"]);
+    assert!(summary_spp(&run.stdout) < 9, "{}", run.stdout);
+    let run = f.render_ok("classic.toml", "b.exr", &["--spp", "9", "--resume"]);
+    assert_eq!(summary_spp(&run.stdout), 9);
+    assert_eq!(f.bits("b.exr"), f.bits("a.exr"), "resumed Whitted render differs from the one done in one go");
+    // The stratified grid depends on --spp, so a resume with another is
+    // refused with a hint; Sobol samples can be added to at will.
+    let run = f.render("classic.toml", "b.exr", &["--spp", "16", "--resume"]);
+    assert_error(&run, &["--spp", "--sampler sobol"]);
+    f.render_ok("classic.toml", "c.exr", &["--spp", "8", "--sampler", "sobol"]);
+    f.render_ok("classic.toml", "d.exr", &["--spp", "3", "--sampler", "sobol", "--checkpoint-every", "0.001"]);
+    let run = f.render_ok("classic.toml", "d.exr", &["--spp", "8", "--sampler", "sobol", "--resume"]);
+    assert!(run.stdout.contains("3 resumed + 5 now"), "{}", run.stdout);
+    assert_eq!(f.bits("d.exr"), f.bits("c.exr"));
     f.assert_no_temporaries();
 }
 

@@ -1,7 +1,7 @@
 //! The record of a ray hitting a surface in the world.
 
 use crate::geometry::{offset_ray_origin, Ray, Vec2, Vec3};
-use crate::scene::MaterialId;
+use crate::material::MaterialId;
 
 /// Fraction of a shadow ray's length left unchecked at its far end, so the
 /// surface of an area light could never occlude itself (PBRT's
@@ -26,7 +26,7 @@ pub struct SurfaceInteraction {
     /// The surface's material.
     pub material: MaterialId,
     /// The area light this point belongs to, if the surface emits: an
-    /// index into [`crate::scene::Scene::area_lights`].
+    /// index into the scene's area lights.
     pub light: Option<u32>,
 }
 

@@ -1,22 +1,46 @@
 //! # lucent
 //!
-//! A ray tracer. This release is the classic (Whitted-style) renderer: a
-//! pinhole or thin-lens perspective camera with stratified anti-aliasing;
-//! spheres, planes and flat or smooth triangles under arbitrary affine
-//! transforms and nested groups; matte and Phong materials with recursive
-//! mirror reflection; ambient, point, spot and directional lights with hard
-//! shadows; tone mapping; PNG, BMP and OpenEXR output.
+//! A ray tracer: one render loop that runs either of two integrators, the
+//! classic Whitted ray tracer (hard shadows, mirrors, ambient light) and a
+//! physically based path tracer (next-event estimation with multiple
+//! importance sampling), over scenes of spheres, planes, triangles and
+//! instanced meshes in a two-level, eight-wide SIMD BVH.
 //!
-//! The modules follow the architecture of a physically based renderer
-//! (after PBRT): [`geometry`] and [`shapes`] answer *where* rays hit,
-//! [`material`]s describe surfaces, [`light`]s emit, an [`integrator`]
-//! computes light transport, the [`camera`] makes rays and the [`film`]
-//! collects the image; [`render`] runs it all in parallel.
+//! ## Architecture
+//!
+//! The modules are layers, listed here bottom-up in the order a sample's
+//! data flows through them. A module uses only the modules listed before
+//! it (`tests/layers.rs` checks this on every test run):
+//!
+//! | layer | modules | what they answer |
+//! |---|---|---|
+//! | foundations | [`geometry`], [`color`], [`texels`] | vectors, rays, bounds, transforms, floating-point error; RGB; grids of texels |
+//! | sampling | [`sampling`] | random and low-discrepancy numbers, warps, distributions |
+//! | acceleration | [`accel`] | a BVH over boxes, built and traversed |
+//! | geometry of objects | [`mesh`], [`shapes`] | triangle meshes from files; where a ray hits a shape |
+//! | appearance | [`texture`], [`bsdf`], [`material`] | how surfaces reflect light |
+//! | hits | [`interaction`], [`primitive`] | shapes placed with materials; the nearest hit of many |
+//! | emission | [`light`] | point, spot, directional, area and environment lights |
+//! | the world | [`camera`], [`scene`] | the camera; an immutable [`scene::Scene`] made by a [`scene::SceneBuilder`] |
+//! | the image | [`film`] | reconstruction filters, the accumulator, tone mapping, image files |
+//! | light transport | [`integrator`] | radiance along a camera ray |
+//! | the loop | [`render`] | [`render::RenderSettings`] and the parallel, deterministic render loop |
+//! | ways in | [`loader`] | TOML/JSON scene files, built through the scene builder |
+//! | tools | [`tools`] | image comparison, procedural skies, benchmark meshes: used by the program and tests, never by the layers above |
+//!
+//! One sample goes: the [`render`] loop asks the [`sampling::Sampler`] for
+//! a film and a lens position, the [`camera`] turns them into a ray, the
+//! [`integrator`] follows it through the [`scene`] (whose [`primitive`]
+//! aggregate finds hits in [`shapes`] by way of the [`accel`] BVH, and
+//! whose [`material`]s and [`light`]s give the [`bsdf`]s and emitted light
+//! at each hit) and returns radiance, which the loop splats into the
+//! [`film`]'s accumulator with the reconstruction filter.
+//! `docs/architecture.md` tells the same story at more length.
 //!
 //! ```
 //! use lucent::prelude::*;
 //!
-//! let scene = parse_scene(r#"
+//! let loaded = parse_scene(r#"
 //!     [camera]
 //!     eye = [0, 0, -4]
 //!     look_at = [0, 0, 0]
@@ -30,11 +54,12 @@
 //!     material = "white"
 //!     [[directional_light]]
 //!     direction = [0, 0, 1]
-//! "#, SceneFormat::Toml).unwrap();
-//! let out = render(&scene, &RenderOptions::default()).unwrap();
+//! "#, SceneFormat::Toml)?;
+//! let out = render(&loaded.scene, &loaded.settings, RenderOptions::default())?;
 //! // The centre pixel faces the light head on: kd · albedo / π · E = 1/π.
 //! let c = out.film.pixel(8, 8);
 //! assert!((c.x - std::f32::consts::FRAC_1_PI).abs() < 0.01);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 #![warn(missing_docs)]
@@ -48,13 +73,16 @@ pub mod geometry;
 pub mod integrator;
 pub mod interaction;
 pub mod light;
+pub mod loader;
 pub mod material;
 pub mod mesh;
+pub mod primitive;
 pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod shapes;
 pub mod texture;
+pub mod tools;
 
 /// The names most programs need.
 pub mod prelude {
@@ -63,9 +91,11 @@ pub mod prelude {
     pub use crate::film::{Film, PendingImage, ToneMap};
     pub use crate::geometry::{Ray, Transform, Vec2, Vec3};
     pub use crate::light::{Falloff, Light};
-    pub use crate::material::Material;
-    pub use crate::render::{render, RenderOptions, RenderOutput, RenderSettings};
-    pub use crate::scene::{load_scene, parse_scene, Primitive, Scene, SceneError, SceneFile, SceneFormat};
+    pub use crate::loader::{load_scene, parse_scene, LoadedScene, SceneFile, SceneFormat};
+    pub use crate::material::{Material, MaterialId};
+    pub use crate::primitive::Primitive;
+    pub use crate::render::{render, IntegratorKind, RenderOptions, RenderOutput, RenderSettings};
+    pub use crate::scene::{Emission, Scene, SceneBuilder, SceneError};
     pub use crate::shapes::{Plane, Sphere, Triangle};
     pub use crate::texture::Texture;
 }

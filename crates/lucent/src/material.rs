@@ -7,6 +7,23 @@ use crate::geometry::{reflect, Vec2, Vec3};
 use crate::texture::Texture;
 use std::f32::consts::FRAC_1_PI;
 
+/// Index of a material in its scene; only the scene builder's
+/// `add_material` makes one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct MaterialId(u32);
+
+impl MaterialId {
+    /// The handle of the material at `index` in a scene's material list.
+    pub(crate) fn new(index: usize) -> Self {
+        Self(index as u32)
+    }
+
+    /// The index into the scene's material list.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
 /// Why material parameters are unusable.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum MaterialError {

@@ -37,10 +37,10 @@ fn ref_camera() -> RefCamera {
     RefCamera::new([1.0, 2.0, -6.0], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 36.0, W, H)
 }
 
-fn sphere_scene(material: Material, lights: &[Light]) -> (RefCamera, Scene) {
+fn sphere_scene(material: Material, lights: &[Light]) -> (RefCamera, TestScene) {
     let cam = ref_camera();
     let mut scene = scene_one_spp(cam.camera());
-    scene.settings.background = v3(BACKGROUND);
+    scene.background = v3(BACKGROUND);
     scene.ambient = v3(AMBIENT);
     let m = scene.add_material(material);
     scene.add(Primitive::new(Sphere::new(v3(CENTRE), RADIUS).unwrap(), Transform::IDENTITY, m));

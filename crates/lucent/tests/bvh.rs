@@ -2,13 +2,12 @@
 //! and the same any-hit answer, on randomized scenes of spheres, planes,
 //! triangles, transformed objects and instanced meshes.
 
-use lucent::accel::{Aggregate, BvhAggregate, LinearAggregate, MeshBvh};
 use lucent::geometry::{Ray, Transform, Vec3};
 use lucent::mesh::TriangleMesh;
 use lucent::prelude::*;
+use lucent::primitive::{Aggregate, BvhAggregate, LinearAggregate};
 use lucent::sampling::Pcg32;
-use lucent::scene::MaterialId;
-use lucent::shapes::{watertight, Mesh};
+use lucent::shapes::{watertight, Mesh, MeshBvh};
 use std::sync::Arc;
 
 fn rand_vec(rng: &mut Pcg32, scale: f32) -> Vec3 {
@@ -103,8 +102,8 @@ fn random_primitives(rng: &mut Pcg32, material: MaterialId) -> Vec<Primitive> {
 fn scene_bvh_equals_brute_force() {
     let mut rng = Pcg32::new(5, 5);
     let camera = Camera::new(Vec3::ZERO, Vec3::Z, Vec3::Y, 60.0, 4, 4).unwrap();
-    let mut scene = Scene::new(camera);
-    let m = scene.add_material(Material::matte(Color::ONE, 1.0).unwrap());
+    let mut scene = SceneBuilder::new(camera);
+    let m = scene.add_material(Material::matte(Color::ONE, 1.0).unwrap()).unwrap();
     for round in 0..4 {
         let prims = random_primitives(&mut rng, m);
         let bvh = BvhAggregate::new(&prims);
@@ -133,28 +132,25 @@ fn instances_render_like_copies() {
     let transforms: Vec<Transform> = (0..3).map(|_| random_transform(&mut rng)).collect();
     let camera = Camera::new(Vec3::new(0.0, 0.0, -25.0), Vec3::ZERO, Vec3::Y, 50.0, 48, 48).unwrap();
     let build = |instanced: bool| {
-        let mut scene = Scene::new(camera.clone());
-        scene.settings.spp = 4;
-        scene.ambient = Color::splat(0.1);
-        let m = scene.add_material(Material::matte(Color::new(0.8, 0.6, 0.4), 1.0).unwrap());
+        let mut scene = SceneBuilder::new(camera.clone());
+        let settings = RenderSettings { spp: 4, ..RenderSettings::default() };
+        scene.set_ambient(Color::splat(0.1)).unwrap();
+        let m = scene.add_material(Material::matte(Color::new(0.8, 0.6, 0.4), 1.0).unwrap()).unwrap();
         scene.add_light(Light::directional(Vec3::new(0.3, -1.0, 0.5), Color::ONE, 1.0).unwrap());
         let shared = Arc::new(Mesh::new(base.clone()).unwrap());
         for t in &transforms {
             if instanced {
-                scene.add(Primitive::new(lucent::shapes::Shape::Mesh(shared.clone()), *t, m));
+                scene.add_shape(lucent::shapes::Shape::Mesh(shared.clone()), *t, m).unwrap();
             } else {
                 let mut copy = base.clone();
                 for p in &mut copy.positions {
                     *p = t.point(*p);
                 }
-                scene.add(Primitive::new(
-                    lucent::shapes::Shape::Mesh(Arc::new(Mesh::new(copy).unwrap())),
-                    Transform::IDENTITY,
-                    m,
-                ));
+                let copy = lucent::shapes::Shape::Mesh(Arc::new(Mesh::new(copy).unwrap()));
+                scene.add_shape(copy, Transform::IDENTITY, m).unwrap();
             }
         }
-        render(&scene, &RenderOptions::default()).unwrap().film
+        render(&scene.build().unwrap(), &settings, RenderOptions::default()).unwrap().film
     };
     let (a, b) = (build(true), build(false));
     let mut differing = 0;

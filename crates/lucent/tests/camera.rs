@@ -140,7 +140,7 @@ fn a_very_wide_render_has_no_invalid_pixels() {
             "#
         );
         let scene = parse_scene(&src, SceneFormat::Toml).unwrap();
-        let film = render_film(&scene);
+        let film = render_loaded(&scene);
         assert!(film.pixels().iter().all(|c| c.is_finite() && c.min_element() >= 0.0), "fov {fov}");
         // The sphere straight ahead is in the middle of the image.
         assert_ne!(film.pixel(24, 16), Color::new(0.2, 0.3, 0.4));
@@ -231,13 +231,13 @@ fn a_point_off_the_focal_plane_spreads_over_the_circle_of_confusion() {
 
 /// A matte checkerboard wall facing the camera at distance `wall`, lit
 /// head-on, seen through a lens focused at `focal` (or a pinhole).
-fn wall_scene(wall: f32, lens: Option<f32>) -> Scene {
+fn wall_scene(wall: f32, lens: Option<f32>) -> TestScene {
     let cam = Camera::new(Vec3::ZERO, Vec3::Z, Vec3::Y, 40.0, 48, 32).unwrap();
     let cam = match lens {
         Some(focal) => cam.with_lens(ThinLens { radius: 0.5, focal_distance: focal }).unwrap(),
         None => cam,
     };
-    let mut scene = Scene::new(cam);
+    let mut scene = TestScene::new(cam);
     scene.settings.spp = 16;
     scene.settings.seed = 5;
     let checker = lucent::texture::Texture::Checker { even: Color::ONE, odd: Color::splat(0.1), scale: 0.37 };

@@ -7,9 +7,9 @@
 //! Without `../shared` the test is skipped, except under CI (`CI=true`),
 //! where the reference must be present.
 
-use lucent::film::{compare, read_image};
+use lucent::loader::{ImageDimension, SampleCount, SceneFile};
 use lucent::render::{render, RenderOptions};
-use lucent::scene::{ImageDimension, SampleCount, SceneFile};
+use lucent::tools::{compare, read_image};
 use std::path::Path;
 
 fn reference() -> Option<lucent::film::Film> {
@@ -39,7 +39,8 @@ fn render_cornell(size: u32, spp: u32, box_filter: bool) -> lucent::film::Film {
         // this coarser scale.
         file.description.render.filter = None;
     }
-    render(&file.build().unwrap(), &RenderOptions::default()).unwrap().film
+    let loaded = file.build().unwrap();
+    render(&loaded.scene, &loaded.settings, RenderOptions::default()).unwrap().film
 }
 
 /// Mean radiance of the `n × n` blocks of an image.

@@ -72,12 +72,12 @@ fn scene_text(seed: u64, spp: u32, lens: &str) -> String {
     )
 }
 
-fn scene(seed: u64, spp: u32, lens: &str) -> Scene {
+fn scene(seed: u64, spp: u32, lens: &str) -> LoadedScene {
     parse_scene(&scene_text(seed, spp, lens), SceneFormat::Toml).unwrap()
 }
 
-fn render_threads(scene: &Scene, threads: Option<usize>) -> RenderOutput {
-    render(scene, &RenderOptions { threads, progress: None }).unwrap()
+fn render_threads(scene: &LoadedScene, threads: Option<usize>) -> RenderOutput {
+    render(&scene.scene, &scene.settings, RenderOptions { threads, ..RenderOptions::default() }).unwrap()
 }
 
 /// Bit patterns of every channel of every pixel.
@@ -95,7 +95,7 @@ fn assert_identical(a: &Film, b: &Film, what: &str) {
     assert!(bits(a) == bits(b), "{what}: images differ in their bits");
 }
 
-fn check_thread_counts(scene: &Scene, what: &str) -> Film {
+fn check_thread_counts(scene: &LoadedScene, what: &str) -> Film {
     let reference = render_threads(scene, Some(1));
     assert!(reference.film.pixels().iter().all(|c| c.is_finite()), "{what}: non-finite pixels");
     for threads in [Some(2), Some(3), None, Some(1)] {
@@ -156,13 +156,13 @@ fn a_scene_built_in_code_renders_identically_across_threads() {
         .unwrap()
         .with_lens(ThinLens { radius: 0.2, focal_distance: 3.0 })
         .unwrap();
-    let mut scene = Scene::new(camera);
-    scene.settings.spp = 9;
-    scene.settings.seed = 0xdead_beef;
-    let chrome = scene.add_material(Material::phong(Color::ONE, 0.2, 0.5, 40.0, 0.6).unwrap());
-    let red = scene.add_material(Material::matte(Color::new(0.9, 0.1, 0.1), 0.9).unwrap());
-    scene.add(Primitive::new(Sphere::new(Vec3::ZERO, 1.0).unwrap(), Transform::IDENTITY, chrome));
-    scene.add(Primitive::new(Plane::new(Vec3::new(0.0, -1.0, 0.0), Vec3::Y).unwrap(), Transform::IDENTITY, red));
-    scene.add_light(Light::point(Vec3::new(3.0, 4.0, -3.0), Color::ONE, 20.0, Falloff::InverseSquare).unwrap());
+    let mut b = SceneBuilder::new(camera);
+    let settings = RenderSettings { spp: 9, seed: 0xdead_beef, ..RenderSettings::default() };
+    let chrome = b.add_material(Material::phong(Color::ONE, 0.2, 0.5, 40.0, 0.6).unwrap()).unwrap();
+    let red = b.add_material(Material::matte(Color::new(0.9, 0.1, 0.1), 0.9).unwrap()).unwrap();
+    b.add_shape(Sphere::new(Vec3::ZERO, 1.0).unwrap(), Transform::IDENTITY, chrome).unwrap();
+    b.add_shape(Plane::new(Vec3::new(0.0, -1.0, 0.0), Vec3::Y).unwrap(), Transform::IDENTITY, red).unwrap();
+    b.add_light(Light::point(Vec3::new(3.0, 4.0, -3.0), Color::ONE, 20.0, Falloff::InverseSquare).unwrap());
+    let scene = LoadedScene { scene: b.build().unwrap(), settings, files: Vec::new() };
     check_thread_counts(&scene, "scene built in code");
 }

@@ -6,9 +6,8 @@
 //! is absent, except with `CI=true`, where a missing file is a failure.
 
 use lucent::geometry::Vec3;
-use lucent::mesh::{
-    load_mesh, load_mesh_list, load_obj, load_ply, load_raybench_mesh, parse_ply, uv_sphere, MeshError, TriangleMesh,
-};
+use lucent::mesh::{load_mesh, load_obj, load_ply, parse_ply, MeshError, TriangleMesh};
+use lucent::tools::{load_mesh_list, load_raybench_mesh, uv_sphere};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 

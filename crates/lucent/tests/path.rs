@@ -4,10 +4,11 @@
 //! interrupted renders.
 
 use lucent::film::Accumulator;
+use lucent::loader::{ImageDimension, SampleCount};
 use lucent::prelude::*;
-use lucent::render::{render_progressive, ProgressiveOptions};
+use lucent::render::render_into;
 
-fn scene(body: &str) -> Scene {
+fn scene(body: &str) -> LoadedScene {
     parse_scene(body, SceneFormat::Toml).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -25,8 +26,8 @@ fn stats(film: &Film, expected: f32) -> (f64, f32) {
     (sum / (film.pixels().len() * 3) as f64, worst)
 }
 
-fn render_path(s: &Scene) -> Film {
-    render(s, &RenderOptions::default()).unwrap().film
+fn render_path(s: &LoadedScene) -> Film {
+    render(&s.scene, &s.settings, RenderOptions::default()).unwrap().film
 }
 
 /// A sphere of albedo 1 under a uniform environment of radiance 1
@@ -209,12 +210,12 @@ fn furnace_for_conductors_and_dielectrics() {
     assert!(mean <= 1.0 + 5e-3 && mean > 0.85, "plastic: mean {mean}");
 }
 
-fn small_cornell() -> Scene {
+fn small_cornell() -> LoadedScene {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.toml");
     let mut file = SceneFile::load(path).unwrap();
-    file.description.render.width = lucent::scene::ImageDimension(48);
-    file.description.render.height = lucent::scene::ImageDimension(48);
-    file.description.render.spp = lucent::scene::SampleCount(8);
+    file.description.render.width = ImageDimension(48);
+    file.description.render.height = ImageDimension(48);
+    file.description.render.spp = SampleCount(8);
     file.build().unwrap()
 }
 
@@ -222,8 +223,8 @@ fn small_cornell() -> Scene {
 #[test]
 fn path_renders_are_identical_for_any_thread_count() {
     let s = small_cornell();
-    let one = render(&s, &RenderOptions { threads: Some(1), progress: None }).unwrap().film;
-    let three = render(&s, &RenderOptions { threads: Some(3), progress: None }).unwrap().film;
+    let one = render(&s.scene, &s.settings, RenderOptions { threads: Some(1), ..Default::default() }).unwrap().film;
+    let three = render(&s.scene, &s.settings, RenderOptions { threads: Some(3), ..Default::default() }).unwrap().film;
     assert_eq!(one, three);
 }
 
@@ -233,11 +234,11 @@ fn path_renders_are_identical_for_any_thread_count() {
 fn resumed_renders_equal_uninterrupted_ones() {
     let s = small_cornell();
     let mut whole = Accumulator::new(48, 48).unwrap();
-    render_progressive(&s, &mut whole, ProgressiveOptions { spp: 8, ..Default::default() }).unwrap();
+    render_into(&s.scene, &s.settings, &mut whole, RenderOptions { spp: Some(8), ..Default::default() }).unwrap();
     let mut parts = Accumulator::new(48, 48).unwrap();
     for target in [3, 5, 8] {
-        render_progressive(&s, &mut parts, ProgressiveOptions { spp: target, threads: Some(2), ..Default::default() })
-            .unwrap();
+        let options = RenderOptions { spp: Some(target), threads: Some(2), ..Default::default() };
+        render_into(&s.scene, &s.settings, &mut parts, options).unwrap();
     }
     assert_eq!(parts.spp(), 8);
     assert_eq!(whole, parts);

@@ -56,7 +56,7 @@ fn recursion_between_parallel_mirrors_stops_at_max_depth() {
     for max_depth in [0u32, 1, 2, 5, 12] {
         let mut scene = scene_one_spp(cam.camera());
         scene.settings.max_depth = max_depth;
-        scene.settings.background = Color::splat(7.0); // never seen
+        scene.background = Color::splat(7.0); // never seen
         scene.ambient = ambient;
         let floor = scene.add_material(mirror(col_a, ka_a, kr_a));
         let ceiling = scene.add_material(mirror(col_b, ka_b, kr_b));
@@ -112,7 +112,7 @@ fn a_corner_reflector_returns_the_background_after_three_bounces() {
         for max_depth in [0u32, 1, 2, 3, 5] {
             let mut scene = scene_one_spp(cam.camera());
             scene.settings.max_depth = max_depth;
-            scene.settings.background = background;
+            scene.background = background;
             scene.ambient = ambient;
             let m = scene.add_material(mirror(color, ka, kr));
             for n in [Vec3::X, Vec3::Y, Vec3::Z] {
@@ -175,10 +175,10 @@ impl MirrorScene {
         }
     }
 
-    fn scene(&self, max_depth: u32) -> Scene {
+    fn scene(&self, max_depth: u32) -> TestScene {
         let mut scene = scene_one_spp(self.cam.camera());
         scene.settings.max_depth = max_depth;
-        scene.settings.background = self.background;
+        scene.background = self.background;
         scene.ambient = self.ambient.as_vec3();
         let ball = scene.add_material(
             Material::matte(self.albedo.as_vec3(), self.kd as f32).unwrap().with_ka(self.ka as f32).unwrap(),

@@ -11,8 +11,8 @@
 //!
 //! and commit the updated `crates/lucent/tests/reference/*.png`.
 
+use lucent::loader::{ImageDimension, SampleCount, SceneFile};
 use lucent::render::{render, RenderOptions};
-use lucent::scene::{ImageDimension, SampleCount, SceneFile};
 use std::path::{Path, PathBuf};
 
 /// Width of the test renders; height keeps the scene's aspect ratio.
@@ -48,9 +48,9 @@ fn render_small(path: &Path) -> (u32, u32, Vec<u8>) {
     r.width = ImageDimension(WIDTH);
     r.height = ImageDimension(height);
     r.spp = SampleCount(r.spp.0.min(MAX_SPP));
-    let scene = file.build().unwrap_or_else(|e| panic!("{e}"));
-    let out = render(&scene, &RenderOptions::default()).unwrap();
-    (WIDTH, height, out.film.to_rgb8(scene.settings.tone_map, scene.settings.srgb))
+    let loaded = file.build().unwrap_or_else(|e| panic!("{e}"));
+    let out = render(&loaded.scene, &loaded.settings, RenderOptions::default()).unwrap();
+    (WIDTH, height, out.film.to_rgb8(loaded.settings.tone_map, loaded.settings.srgb))
 }
 
 #[test]

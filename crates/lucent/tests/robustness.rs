@@ -34,10 +34,10 @@ struct Case {
 }
 
 fn scene_of(shape: impl Into<lucent::shapes::Shape>, transform: Transform) -> Scene {
-    let mut scene = Scene::new(dummy_camera());
+    let mut scene = TestScene::new(dummy_camera());
     let m = scene.add_material(Material::matte(Color::ONE, 1.0).unwrap());
     scene.add(Primitive::new(shape, transform, m));
-    scene
+    scene.build()
 }
 
 fn sphere(centre: [f32; 3], radius: f32) -> Case {

@@ -1,6 +1,6 @@
 //! Meshes, prototypes and instances in scene files.
 
-use lucent::scene::{SceneFile, SceneFormat};
+use lucent::loader::{SceneFile, SceneFormat};
 use lucent::shapes::Shape;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -16,10 +16,10 @@ fn parse(body: &str) -> Result<lucent::scene::Scene, lucent::scene::SceneError> 
         "[camera]\neye = [0, 1.5, -8]\nlook_at = [0, 1.5, 0]\n[render]\nwidth = 16\nheight = 16\nspp = 1\n\
          [materials.red.matte]\ncolor = [1, 0, 0]\n[materials.blue.matte]\ncolor = [0, 0, 1]\n{body}"
     );
-    SceneFile::parse(src, SceneFormat::Toml, Some(fixtures().join("scene.toml")))?.build()
+    Ok(SceneFile::parse(src, SceneFormat::Toml, Some(fixtures().join("scene.toml")))?.build()?.scene)
 }
 
-fn mesh_of(p: &lucent::scene::Primitive) -> &Arc<lucent::shapes::Mesh> {
+fn mesh_of(p: &lucent::primitive::Primitive) -> &Arc<lucent::shapes::Mesh> {
     match p.shape() {
         Shape::Mesh(m) => m,
         other => panic!("expected a mesh, got {other:?}"),

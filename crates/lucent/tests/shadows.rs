@@ -31,7 +31,7 @@ fn ambient_term() -> Color {
 }
 
 /// A floor `y = 0` seen from above at an angle, with ambient light.
-fn floor_scene() -> (RefCamera, Scene) {
+fn floor_scene() -> (RefCamera, TestScene) {
     let cam = RefCamera::new([0.0, 10.0, -10.0], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 24.0, N, N);
     let mut scene = scene_one_spp(cam.camera());
     scene.ambient = v3(AMBIENT);
@@ -144,7 +144,7 @@ fn sphere_hides(c: DVec3, r: f64) -> impl Fn(DVec3, DVec3, f64) -> Option<bool> 
     }
 }
 
-fn gray(scene: &mut Scene) -> lucent::scene::MaterialId {
+fn gray(scene: &mut TestScene) -> MaterialId {
     scene.add_material(Material::matte(Color::splat(0.5), 0.9).unwrap())
 }
 

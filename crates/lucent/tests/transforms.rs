@@ -17,10 +17,10 @@ use lucent::texture::Texture;
 
 /// A scene holding only `shape` under `transform`.
 fn single(shape: impl Into<lucent::shapes::Shape>, transform: Transform) -> Scene {
-    let mut scene = Scene::new(dummy_camera());
+    let mut scene = TestScene::new(dummy_camera());
     let m = scene.add_material(Material::matte(Color::ONE, 1.0).unwrap());
     scene.add(Primitive::new(shape, transform, m));
-    scene
+    scene.build()
 }
 
 #[derive(Debug, Default)]
@@ -234,7 +234,7 @@ transform = [{ rotate_z = 30 }, { translate = [1, 2, 3] }]
 
 #[test]
 fn nested_group_transforms_compose_outside_in() {
-    let scene = parse_scene(GROUPS, SceneFormat::Toml).unwrap();
+    let scene = parse_scene(GROUPS, SceneFormat::Toml).unwrap().scene;
     assert_eq!(scene.primitives().len(), 4);
 
     let top = compose(&[Op::Scale(DVec3::new(1.0, 2.0, 3.0)), Op::RotateY(20.0)]);
@@ -301,7 +301,7 @@ fn rotate_then_scale_then_translate_maps_points_in_that_order() {
             transform = [{{ rotate_z = {angle} }}, {{ scale = [1, 2, 1] }}, {{ translate = [10, 20, 0] }}]
             "#
         );
-        let scene = parse_scene(&src, SceneFormat::Toml).unwrap();
+        let scene = parse_scene(&src, SceneFormat::Toml).unwrap().scene;
         let t = scene.primitives()[0].transform();
         let (s, c) = angle.to_radians().sin_cos();
         // (x, y, z) → rotate → (x c - y s, x s + y c, z) → scale y by 2 → translate.

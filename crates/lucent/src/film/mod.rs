@@ -3,17 +3,12 @@
 
 mod accumulator;
 mod checkpoint;
-mod compare;
 mod filter;
 mod output;
 mod tonemap;
 
 pub use accumulator::{Accumulator, FIXED_POINT_SCALE, MAX_CONTRIBUTION};
 pub use checkpoint::{load_checkpoint, save_checkpoint, CheckpointError};
-pub use compare::{
-    compare, read_image, relative_squared_error, srgb_decode, CompareError, DiffMetrics, ImageReadError,
-    REL_MSE_EPSILON,
-};
 pub use filter::{Filter, FilterError, FilterSample, FilterSampler, TABLE_SEGMENTS};
 pub use output::{ImageFormat, OutputError, PendingImage};
 pub use tonemap::{srgb_encode, ToneMap};

@@ -8,11 +8,12 @@
 mod path;
 mod whitted;
 
-pub use path::{power_heuristic, PathIntegrator, RR_DEPTH};
+pub use path::{power_heuristic, DirectLighting, PathIntegrator, RR_DEPTH};
 pub use whitted::WhittedIntegrator;
 
 use crate::color::Color;
 use crate::geometry::Ray;
+use crate::sampling::Sampler;
 use crate::scene::Scene;
 
 /// Counts of rays traced, by kind.
@@ -40,9 +41,12 @@ impl RayStats {
     }
 }
 
-/// Computes the radiance arriving along a camera ray.
+/// Computes the radiance arriving along a camera ray: the one interface of
+/// light transport, through which the render loop runs every integrator.
 pub trait Integrator: Sync {
     /// Radiance arriving at the ray's origin from along `-ray.dir`, in linear
-    /// RGB. `stats` counts the rays traced.
-    fn li(&self, scene: &Scene, ray: &Ray, stats: &mut RayStats) -> Color;
+    /// RGB. `sampler` is positioned at the pixel sample the ray belongs to,
+    /// with its film and lens dimensions consumed; `stats` counts the rays
+    /// traced.
+    fn li(&self, scene: &Scene, ray: &Ray, sampler: &mut Sampler, stats: &mut RayStats) -> Color;
 }

@@ -1,10 +1,10 @@
-use super::RayStats;
+use super::{Integrator, RayStats};
 use crate::bsdf::Bsdf;
 use crate::color::Color;
 use crate::geometry::Ray;
 use crate::interaction::SurfaceInteraction;
 use crate::light::{Emitter, LightSampleContext};
-use crate::sampling::PathSampler;
+use crate::sampling::Sampler;
 use crate::scene::Scene;
 
 /// Unidirectional path tracing with next-event estimation and multiple
@@ -35,10 +35,52 @@ use crate::scene::Scene;
 /// Sample dimensions are consumed in a fixed pattern per vertex (light
 /// choice, light position, lobe choice, direction, roulette), so that a
 /// low-discrepancy sampler stays well stratified along the path.
+///
+/// [`DirectLighting`] can switch one of the two techniques off, to check
+/// that each alone converges to the same image (the renderer uses MIS).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PathIntegrator {
     /// Most scattering events along a path (1: direct light only).
     pub max_depth: u32,
+    /// How light is found at each vertex.
+    pub direct: DirectLighting,
+}
+
+/// How a path finds light at a vertex: by sampling a light (next-event
+/// estimation), by sampling the BSDF and hitting an emitter, or both,
+/// combined by multiple importance sampling. All three are unbiased
+/// estimators of the same integral; only their noise differs. (Delta
+/// lights can only be found by light sampling, and delta lobes only by BSDF
+/// sampling, whatever the choice.)
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DirectLighting {
+    /// Both techniques, weighted by the power heuristic.
+    #[default]
+    Mis,
+    /// Light sampling only: emitters hit by BSDF-sampled rays after a
+    /// non-specular bounce are not counted.
+    LightsOnly,
+    /// BSDF sampling only: no shadow rays.
+    BsdfOnly,
+}
+
+impl PathIntegrator {
+    /// A path tracer with multiple importance sampling.
+    pub fn new(max_depth: u32) -> Self {
+        Self { max_depth, direct: DirectLighting::Mis }
+    }
+
+    /// The weight of light reached by a BSDF-sampled ray after a
+    /// non-specular bounce, whose pdf was `p_bsdf`, from an emitter whose
+    /// light-sampling pdf would have been `p_light`.
+    #[inline]
+    fn bsdf_weight(&self, p_bsdf: f32, p_light: f32) -> f32 {
+        match self.direct {
+            DirectLighting::Mis => power_heuristic(p_bsdf, p_light),
+            DirectLighting::LightsOnly => 0.0,
+            DirectLighting::BsdfOnly => 1.0,
+        }
+    }
 }
 
 /// Paths are never ended by Russian roulette before this many bounces
@@ -61,9 +103,9 @@ pub fn power_heuristic(pdf_f: f32, pdf_g: f32) -> f32 {
     }
 }
 
-impl PathIntegrator {
+impl Integrator for PathIntegrator {
     /// Radiance arriving along the camera ray `camera_ray`, one path sample.
-    pub fn li(&self, scene: &Scene, camera_ray: &Ray, sampler: &mut PathSampler, stats: &mut RayStats) -> Color {
+    fn li(&self, scene: &Scene, camera_ray: &Ray, sampler: &mut Sampler, stats: &mut RayStats) -> Color {
         let lights = scene.light_set();
         let mut radiance = Color::ZERO;
         // Path throughput: product of f·|cos θ|/pdf along the path so far.
@@ -88,7 +130,7 @@ impl PathIntegrator {
                     } else {
                         let p_light = lights.pmf(index)
                             * lights.emitters()[index].pdf_li(&prev_ctx, ray.dir, ray.origin, ray.dir);
-                        radiance += beta * le * power_heuristic(prev_pdf, p_light);
+                        radiance += beta * le * self.bsdf_weight(prev_pdf, p_light);
                     }
                 }
                 break;
@@ -106,7 +148,7 @@ impl PathIntegrator {
                         } else {
                             let p_light =
                                 lights.pmf(index) * lights.emitters()[index].pdf_li(&prev_ctx, ray.dir, si.p, si.n);
-                            radiance += beta * le * power_heuristic(prev_pdf, p_light);
+                            radiance += beta * le * self.bsdf_weight(prev_pdf, p_light);
                         }
                     }
                 }
@@ -122,7 +164,7 @@ impl PathIntegrator {
             // unused, to keep the pattern fixed.
             let u_light = sampler.get_1d();
             let u_point = sampler.get_2d();
-            if !bsdf.is_specular() {
+            if !bsdf.is_specular() && self.direct != DirectLighting::BsdfOnly {
                 radiance += beta * self.sample_light(scene, &si, &bsdf, wo, u_light, u_point, stats);
             }
 
@@ -160,7 +202,9 @@ impl PathIntegrator {
         }
         radiance
     }
+}
 
+impl PathIntegrator {
     /// One light sample at `si`, MIS-weighted against BSDF sampling; the
     /// result still has to be multiplied by the path throughput.
     #[allow(clippy::too_many_arguments)]
@@ -198,7 +242,7 @@ impl PathIntegrator {
             return Color::ZERO;
         }
         let p_light = pmf * ls.pdf;
-        if emitter.is_delta() {
+        if emitter.is_delta() || self.direct == DirectLighting::LightsOnly {
             f * ls.l / p_light
         } else {
             let w = power_heuristic(p_light, bsdf.pdf(wo, ls.wi));

@@ -2,6 +2,7 @@ use super::{Integrator, RayStats};
 use crate::color::Color;
 use crate::geometry::{face_forward, reflect, Ray};
 use crate::light::LightSource;
+use crate::sampling::Sampler;
 use crate::scene::Scene;
 
 /// Whitted-style ray tracing (Whitted, "An Improved Illumination Model for
@@ -28,7 +29,8 @@ pub struct WhittedIntegrator {
 }
 
 impl Integrator for WhittedIntegrator {
-    fn li(&self, scene: &Scene, camera_ray: &Ray, stats: &mut RayStats) -> Color {
+    /// Deterministic: no sample dimensions are used beyond the film and lens.
+    fn li(&self, scene: &Scene, camera_ray: &Ray, _sampler: &mut Sampler, stats: &mut RayStats) -> Color {
         stats.camera += 1;
         let mut radiance = Color::ZERO;
         let mut throughput = Color::ONE;
@@ -36,7 +38,7 @@ impl Integrator for WhittedIntegrator {
         let mut depth = 0;
         loop {
             let Some(si) = scene.intersect(&ray, f32::INFINITY) else {
-                return radiance + throughput * scene.settings.background;
+                return radiance + throughput * scene.background();
             };
             let wo = -ray.dir.normalize();
             // An emissive surface shows its own radiance.
@@ -48,7 +50,7 @@ impl Integrator for WhittedIntegrator {
             let ns = face_forward(si.ns, ng);
             let bsdf = scene.material(si.material).bsdf(si.uv);
 
-            let mut l = bsdf.ambient * scene.ambient;
+            let mut l = bsdf.ambient * scene.ambient();
             for light in scene.lights() {
                 let Some(sample) = light.sample_li(si.p) else { continue };
                 let cos = ns.dot(sample.wi);

@@ -2,8 +2,8 @@
 //!
 //! [`Light`] is a light of the classic renderer: point, spot or directional
 //! (all "delta" lights: each shaded point sees them from exactly one
-//! direction). Ambient light is a property of the scene, see
-//! [`crate::scene::Scene`]. The path integrator also has area lights
+//! direction). Ambient light is a property of the scene
+//! (the layer above). The path integrator also has area lights
 //! (emissive surfaces) and environment lights; [`Emitter`] is any of them
 //! and a [`LightSet`] picks one to sample.
 
@@ -11,7 +11,6 @@ mod area;
 mod emitter;
 mod environment;
 mod set;
-pub mod sky;
 
 pub use area::{triangle_solid_angle, AreaLight, AreaShape};
 pub use emitter::{Emitter, LiSample, LightSampleContext};

@@ -1,5 +1,6 @@
-//! Triangle meshes and the loaders that read them (PLY, OBJ with MTL, lists
-//! of PLY files) or make them (UV spheres).
+//! Triangle meshes and the loaders that read them (PLY, OBJ with MTL). The
+//! raybench protocol's list files and UV spheres are made by the tools
+//! layer, on top of these.
 //!
 //! Every loader returns one [`TriangleMesh`]: f32 vertex positions, triangles
 //! as three `u32` indices, optional per-vertex normals and optional
@@ -10,11 +11,8 @@
 //! | [`load_mesh`] | a `.ply` or `.obj` file, chosen by extension |
 //! | [`load_ply`], [`parse_ply`] | PLY, ascii or binary (either byte order): [`ply`] |
 //! | [`load_obj`], [`parse_obj`] | Wavefront OBJ with its MTL materials: [`obj`] |
-//! | [`load_mesh_list`] | a text file listing PLY files, merged: [`raybench`] |
-//! | [`uv_sphere`] | the benchmark's procedural UV sphere: [`sphere`] |
-//! | [`load_raybench_mesh`] | raybench's `MESH` argument: `sphere:STACKS:SLICES`, a PLY file or a list file |
 //!
-//! The PLY, list and sphere loaders follow section 1 of the raybench
+//! The PLY loader follows section 1 of the raybench
 //! protocol (`../shared/tools/raybench/SPEC.md`) bit for bit, so that lucent
 //! and the Embree reference trace exactly the same triangles. In particular
 //! degenerate (zero-area) triangles are *kept* by every loader: the
@@ -32,13 +30,9 @@ use std::path::{Path, PathBuf};
 mod normals;
 pub mod obj;
 pub mod ply;
-pub mod raybench;
-pub mod sphere;
 
 pub use obj::{load_obj, parse_obj};
 pub use ply::{load_ply, parse_ply};
-pub use raybench::{load_mesh_list, load_raybench_mesh};
-pub use sphere::uv_sphere;
 
 /// Why a mesh could not be loaded.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -140,8 +134,8 @@ const MESH_EXTENSIONS: &str = ".ply or .obj";
 /// (case-insensitive): `.ply` ([`load_ply`]) or `.obj` ([`load_obj`]).
 ///
 /// Any other extension is an error that lists the accepted ones. (A list of
-/// PLY files, which has no fixed extension, is read by [`load_mesh_list`] or
-/// [`load_raybench_mesh`].)
+/// PLY files, which has no fixed extension, is read by `tools::load_mesh_list` or
+/// `tools::load_raybench_mesh`.)
 pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshError> {
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
@@ -159,13 +153,13 @@ pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshError> {
 }
 
 /// Reads a whole file, with a located error.
-fn read_file(path: &Path) -> Result<Vec<u8>, MeshError> {
+pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, MeshError> {
     std::fs::read(path).map_err(|e| MeshError::new(path, format!("cannot read the file: {e}")))
 }
 
 /// An empty vector with room for `n` items, or an error (instead of an
 /// abort) when that much memory cannot be had.
-fn vec_with_capacity<T>(n: usize, what: &str, path: &Path) -> Result<Vec<T>, MeshError> {
+pub(crate) fn vec_with_capacity<T>(n: usize, what: &str, path: &Path) -> Result<Vec<T>, MeshError> {
     let mut v = Vec::new();
     v.try_reserve_exact(n).map_err(|_| {
         MeshError::new(

@@ -179,7 +179,7 @@ mod tests {
 
     #[test]
     fn sphere_normals_point_outwards() {
-        let mut m = crate::mesh::uv_sphere(20, 40).unwrap();
+        let mut m = crate::tools::uv_sphere(20, 40).unwrap();
         let exact = m.normals.take().unwrap();
         m.compute_smooth_normals();
         for (n, e) in m.normals.unwrap().iter().zip(exact) {

@@ -79,7 +79,7 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<TriangleMesh, MeshError> {
 
 /// [`parse_ply`] without the final check for triangles (a file of a list
 /// may have none, as long as the whole list has some).
-pub(super) fn parse_ply_allow_empty(bytes: &[u8], path: &Path) -> Result<TriangleMesh, MeshError> {
+pub(crate) fn parse_ply_allow_empty(bytes: &[u8], path: &Path) -> Result<TriangleMesh, MeshError> {
     let header = parse_header(bytes, path)?;
     let data = &bytes[header.data_start..];
     match header.format {

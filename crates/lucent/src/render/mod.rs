@@ -1,80 +1,55 @@
-//! The parallel render loops: [`render`] for the classic integrator (all
-//! samples of a pixel at once), [`render_progressive`] for the path tracer
-//! (passes of samples into an [`Accumulator`](crate::film::Accumulator), with time budgets,
-//! checkpoints and resumption).
+//! The render loop: one parallel, deterministic loop for every integrator.
+//!
+//! [`render`] renders a scene from scratch; [`render_into`] adds samples to
+//! an [`Accumulator`] (an interrupted render's checkpoint, or a finished
+//! one to refine). Both run [`RenderSettings::integrator`] over passes of
+//! samples (see [`passes`](self) for how a pass is sized and splatted), so
+//! time budgets, checkpoints, resuming, reconstruction filters and progress
+//! reports work the same whichever integrator renders.
 
-mod progressive;
+mod passes;
+mod settings;
 
-pub use progressive::{render_progressive, PassCallback, PassInfo, ProgressiveOptions, ProgressiveOutput};
+pub use passes::{PassCallback, PassInfo};
+pub use settings::{IntegratorKind, RenderSettings};
 
-use crate::color::Color;
-use crate::film::{check_image_size, Film, FilmError, Filter, ToneMap};
-use crate::geometry::Vec2;
-use crate::integrator::{Integrator, RayStats, WhittedIntegrator};
-use crate::sampling::{PixelSampler, SamplerKind};
+/// The longest pass of a render that can be cancelled (see
+/// [`RenderOptions::cancel`]).
+pub const CANCEL_PASS_INTERVAL: Duration = Duration::from_secs(5);
+
+use crate::film::{Accumulator, Film, FilmError};
+use crate::integrator::{Integrator, PathIntegrator, RayStats, WhittedIntegrator};
 use crate::scene::Scene;
-use rayon::prelude::*;
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-/// How an image is sampled and displayed.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RenderSettings {
-    /// Samples per pixel. A square `n²` gives an `n × n` jittered grid; 1 is a
-    /// single ray through the pixel centre.
-    pub spp: u32,
-    /// Most mirror-reflection bounces.
-    pub max_depth: u32,
-    /// Radiance of rays that leave the scene.
-    pub background: Color,
-    /// How radiance above 1 is mapped for 8-bit output.
-    pub tone_map: ToneMap,
-    /// Whether 8-bit output is sRGB-encoded (otherwise linear).
-    pub srgb: bool,
-    /// Seed of all random sampling decisions.
-    pub seed: u64,
-    /// Which light transport algorithm renders the scene.
-    pub integrator: IntegratorKind,
-    /// Sample sequence of the path integrator.
-    pub sampler: SamplerKind,
-    /// Pixel reconstruction filter of the path integrator.
-    pub filter: Filter,
-}
-
-/// The light transport algorithms.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum IntegratorKind {
-    /// Classic ray tracing ([`crate::integrator::WhittedIntegrator`]).
-    #[default]
-    Whitted,
-    /// Path tracing ([`crate::integrator::PathIntegrator`]).
-    Path,
-}
-
-impl Default for RenderSettings {
-    fn default() -> Self {
-        Self {
-            spp: 16,
-            max_depth: 5,
-            background: Color::ZERO,
-            tone_map: ToneMap::Classic,
-            srgb: true,
-            seed: 0,
-            integrator: IntegratorKind::Whitted,
-            sampler: SamplerKind::Sobol,
-            filter: Filter::default(),
-        }
-    }
-}
-
-/// How to run a render (as opposed to what to render).
-#[derive(Clone, Copy, Default)]
+/// How to run a render (as opposed to what to render and with which
+/// settings).
+#[derive(Default)]
 pub struct RenderOptions<'a> {
     /// Worker threads; `None` uses every core.
     pub threads: Option<usize>,
-    /// Called after each finished row with `(rows done, rows in all)`, from
-    /// worker threads.
-    pub progress: Option<&'a (dyn Fn(usize, usize) + Sync)>,
+    /// Samples per pixel to reach, counting those already accumulated;
+    /// `None`: the settings' `spp`.
+    pub spp: Option<u32>,
+    /// Stop before this much time has passed, after the last pass that is
+    /// expected to fit. `None`: no limit.
+    pub time_limit: Option<Duration>,
+    /// Longest time between two passes (and so between two calls of
+    /// `on_pass`), e.g. the checkpoint interval. `None`: one pass does all.
+    pub pass_interval: Option<Duration>,
+    /// Called with the fraction of the work done (0 to 1), from worker
+    /// threads.
+    pub progress: Option<&'a (dyn Fn(f64) + Sync)>,
+    /// Called after every pass with the accumulated film, e.g. to write an
+    /// image in progress or a checkpoint; an error stops the render.
+    pub on_pass: Option<&'a mut PassCallback<'a>>,
+    /// Checked between rows: once it is set, every worker stops after its
+    /// current row, the accumulator is put back as it was after the last
+    /// whole pass, and the render returns [`RenderError::Interrupted`]
+    /// (so a checkpoint of it can be resumed). While it is given, passes
+    /// are sized to last at most [`CANCEL_PASS_INTERVAL`], so that little
+    /// work is lost.
+    pub cancel: Option<&'a std::sync::atomic::AtomicBool>,
 }
 
 /// A finished render.
@@ -84,11 +59,35 @@ pub struct RenderOutput {
     pub film: Film,
     /// Rays traced.
     pub stats: RayStats,
-    /// Wall-clock time of the render loop.
+    /// Wall-clock time of the render loop (scene building excluded).
     pub elapsed: Duration,
+    /// Samples per pixel taken.
+    pub spp: u32,
+    /// Samples discarded because their radiance was NaN or infinite.
+    pub nonfinite: u64,
 }
 
 impl RenderOutput {
+    /// Millions of rays per second.
+    pub fn mrays_per_second(&self) -> f64 {
+        self.stats.total() as f64 / self.elapsed.as_secs_f64().max(1e-9) / 1e6
+    }
+}
+
+/// What [`render_into`] did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderReport {
+    /// Rays traced by this run.
+    pub stats: RayStats,
+    /// Wall-clock time of this run.
+    pub elapsed: Duration,
+    /// Samples per pixel added by this run.
+    pub spp_added: u32,
+    /// Samples discarded because their radiance was NaN or infinite.
+    pub nonfinite: u64,
+}
+
+impl RenderReport {
     /// Millions of rays per second.
     pub fn mrays_per_second(&self) -> f64 {
         self.stats.total() as f64 / self.elapsed.as_secs_f64().max(1e-9) / 1e6
@@ -113,62 +112,78 @@ pub enum RenderError {
     /// The worker pool could not start.
     #[error("cannot start {0} worker threads: {1}")]
     Threads(usize, String),
+    /// [`RenderOptions::cancel`] was set.
+    #[error("the render was interrupted")]
+    Interrupted,
 }
 
-/// Render `scene` with the integrator its settings name, all samples in
-/// one go.
+/// Render `scene` with `settings`: `settings.spp` samples per pixel (or
+/// `options.spp`), or as many as fit `options.time_limit`.
 ///
-/// With the Whitted integrator, each pixel's samples come from a generator
-/// seeded by the scene seed and the pixel's coordinates; with the path
-/// tracer, from the pixel's own sample sequence (see
-/// [`render_progressive`]). Either way the image is bit-identical whatever
-/// the number of threads.
-pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderOutput, RenderError> {
-    match scene.settings.integrator {
+/// Pixel `(x, y)` takes sample indices 0, 1, … of its own sample sequence,
+/// so the image is bit-identical whatever the number of threads.
+pub fn render(scene: &Scene, settings: &RenderSettings, options: RenderOptions) -> Result<RenderOutput, RenderError> {
+    let camera = scene.camera();
+    let mut acc = Accumulator::new(camera.width(), camera.height())?;
+    let report = render_into(scene, settings, &mut acc, options)?;
+    Ok(RenderOutput {
+        film: acc.to_film(),
+        stats: report.stats,
+        elapsed: report.elapsed,
+        spp: acc.spp(),
+        nonfinite: report.nonfinite,
+    })
+}
+
+/// Render `scene` into `acc`, from the samples it already holds up to
+/// `options.spp` (default `settings.spp`) per pixel, or until the time
+/// limit.
+///
+/// Pixel `(x, y)` takes sample indices `acc.spp()`, `acc.spp() + 1`, … of
+/// its own sample sequence, and adds them one by one in that order, so the
+/// sums are bit-identical for any thread count, pass size or number of
+/// interruptions.
+pub fn render_into(
+    scene: &Scene,
+    settings: &RenderSettings,
+    acc: &mut Accumulator,
+    options: RenderOptions,
+) -> Result<RenderReport, RenderError> {
+    match settings.integrator {
         IntegratorKind::Whitted => {
-            let integrator = WhittedIntegrator { max_depth: scene.settings.max_depth };
-            render_with(scene, &integrator, options)
+            let integrator = WhittedIntegrator { max_depth: settings.max_depth };
+            render_into_with(scene, settings, &integrator, acc, options)
         }
-        IntegratorKind::Path => {
-            let (w, h) = (scene.camera.width(), scene.camera.height());
-            let mut acc = crate::film::Accumulator::new(w, h)?;
-            let rows = |fraction: f64| {
-                if let Some(progress) = options.progress {
-                    progress((fraction * h as f64) as usize, h as usize);
-                }
-            };
-            let out = render_progressive(
-                scene,
-                &mut acc,
-                ProgressiveOptions {
-                    threads: options.threads,
-                    spp: scene.settings.spp,
-                    progress: Some(&rows),
-                    ..Default::default()
-                },
-            )?;
-            Ok(RenderOutput { film: acc.to_film(), stats: out.stats, elapsed: out.elapsed })
-        }
+        IntegratorKind::Path => render_into_with(scene, settings, &PathIntegrator::new(settings.max_depth), acc, options),
     }
 }
 
-/// Render `scene` with a given integrator.
-pub fn render_with(
+/// [`render_into`] with a given integrator instead of the one
+/// `settings.integrator` names (whose `max_depth` is then the integrator's
+/// business): for integrators with options the settings do not hold, such
+/// as a path tracer that samples only lights
+/// ([`crate::integrator::DirectLighting`]).
+pub fn render_into_with<I: Integrator>(
     scene: &Scene,
-    integrator: &dyn Integrator,
-    options: &RenderOptions,
-) -> Result<RenderOutput, RenderError> {
-    let (w, h) = (scene.camera.width(), scene.camera.height());
-    check_image_size(w, h)?;
-    if scene.settings.spp == 0 {
+    settings: &RenderSettings,
+    integrator: &I,
+    acc: &mut Accumulator,
+    options: RenderOptions,
+) -> Result<RenderReport, RenderError> {
+    let camera = scene.camera();
+    let (w, h) = (camera.width(), camera.height());
+    if (acc.width(), acc.height()) != (w, h) {
+        return Err(RenderError::AccumulatorSize(acc.width(), acc.height(), w, h));
+    }
+    if options.spp.unwrap_or(settings.spp) == 0 || settings.spp == 0 {
         return Err(RenderError::NoSamples);
     }
-    in_pool(options.threads, || render_rows(scene, integrator, options))
+    in_pool(options.threads, || passes::run(scene, settings, integrator, acc, options))
 }
 
 /// Run `work` on a pool of `threads` workers (`None`: rayon's global pool,
 /// one per core).
-pub(crate) fn in_pool<T: Send>(
+fn in_pool<T: Send>(
     threads: Option<usize>,
     work: impl FnOnce() -> Result<T, RenderError> + Send,
 ) -> Result<T, RenderError> {
@@ -180,52 +195,4 @@ pub(crate) fn in_pool<T: Send>(
             .map_err(|e| RenderError::Threads(n, e.to_string()))?
             .install(work),
     }
-}
-
-fn render_rows(
-    scene: &Scene,
-    integrator: &dyn Integrator,
-    options: &RenderOptions,
-) -> Result<RenderOutput, RenderError> {
-    // Build the acceleration structure up front, in this pool, rather than
-    // lazily inside the first worker to need it.
-    scene.aggregate();
-    let start = Instant::now();
-    let (w, h) = (scene.camera.width(), scene.camera.height());
-    let mut film = Film::new(w, h)?;
-    let spp = scene.settings.spp;
-    let seed = scene.settings.seed;
-    let done = AtomicUsize::new(0);
-    let inv_spp = 1.0 / spp as f32;
-
-    let stats = film
-        .pixels_mut()
-        .par_chunks_mut(w as usize)
-        .enumerate()
-        .map_init(
-            || PixelSampler::new(spp),
-            |sampler, (y, row)| {
-                let mut stats = RayStats::default();
-                for (x, pixel) in row.iter_mut().enumerate() {
-                    sampler.start_pixel(seed, x as u32, y as u32, spp);
-                    let mut sum = Color::ZERO;
-                    for i in 0..spp as usize {
-                        let film_pos = Vec2::new(x as f32, y as f32) + sampler.film(i);
-                        let ray = scene.camera.generate_ray(film_pos, sampler.lens(i));
-                        sum += integrator.li(scene, &ray, &mut stats);
-                    }
-                    *pixel = sum * inv_spp;
-                }
-                let n = done.fetch_add(1, Ordering::Relaxed) + 1;
-                if let Some(progress) = options.progress {
-                    progress(n, h as usize);
-                }
-                stats
-            },
-        )
-        .reduce(RayStats::default, |mut a, b| {
-            a.merge(&b);
-            a
-        });
-    Ok(RenderOutput { film, stats, elapsed: start.elapsed() })
 }

@@ -13,5 +13,5 @@ mod warp;
 pub use distribution::{AliasTable, PiecewiseConstant1D, PiecewiseConstant2D};
 pub use pattern::{stratified_2d, PixelSampler};
 pub use rng::{mix_seed, Pcg32};
-pub use sampler::{PathSampler, SamplerKind};
+pub use sampler::{Sampler, SamplerKind};
 pub use warp::{concentric_disk, cosine_hemisphere, cosine_hemisphere_pdf};

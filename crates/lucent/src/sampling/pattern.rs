@@ -51,6 +51,7 @@ const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 /// Seeded from the scene seed and the pixel coordinates only, so a pixel's
 /// samples are the same whichever thread renders it. With one sample per
 /// pixel the film sample is the pixel centre exactly.
+#[derive(Clone, Debug)]
 pub struct PixelSampler {
     rng: Pcg32,
     film: Vec<Vec2>,

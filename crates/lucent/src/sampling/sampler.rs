@@ -1,13 +1,23 @@
-//! Samplers for the path integrator: an endless, deterministic sequence of
-//! sample vectors per pixel, addressed by sample index, so that a render can
-//! stop after any number of samples and later continue (PBRT 4th ed., ch. 8).
+//! Samplers: an endless, deterministic sequence of sample vectors per
+//! pixel, addressed by sample index, so that a render can stop after any
+//! number of samples and later continue (PBRT 4th ed., ch. 8).
+//!
+//! # The stratified sampler
+//!
+//! [`SamplerKind::Stratified`] is the classic renderer's jittered grid
+//! ([`PixelSampler`]): the samples of a pixel come in runs of `spp` (the
+//! render's samples per pixel); each run is one stratified pattern of film
+//! positions and one of lens positions, drawn from a generator seeded by the
+//! seed, the pixel and the run. With one sample per pixel the film position
+//! is the pixel centre. Dimensions after the lens are independent uniform
+//! numbers.
 //!
 //! # The Sobol sampler
 //!
 //! [`SamplerKind::Sobol`] is the "shuffled, scrambled, padded" Sobol sampler
 //! of Burley, "Practical Hash-based Owen Scrambling", JCGT 9(4), 2020, §4–5.
 //! Every request for a 1D or 2D value opens a new *dimension* `d` (counted
-//! from 0 at [`PathSampler::start_pixel_sample`]). For dimension `d` of
+//! from 0 at [`Sampler::start_pixel_sample`]). For dimension `d` of
 //! sample `i` of pixel `(x, y)`:
 //!
 //! 1. the index is shuffled, `j = owen(i, h₀)`, a nested uniform Owen
@@ -31,12 +41,15 @@
 //! independent samples: for every power-of-two prefix of the samples, every
 //! 2D request of a path is stratified.
 
-use super::{mix_seed, Pcg32};
+use super::{mix_seed, Pcg32, PixelSampler};
 use glam::Vec2;
 
 /// Which sample sequence a render uses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum SamplerKind {
+    /// Jittered (stratified) film and lens positions, in runs of the
+    /// render's samples per pixel: the classic renderer's sampling.
+    Stratified,
     /// Independent uniform random numbers.
     Independent,
     /// Owen-scrambled Sobol points: low discrepancy in every pair of
@@ -46,7 +59,7 @@ pub enum SamplerKind {
 }
 
 /// The sample vectors of one pixel sample. Dimensions are consumed in
-/// order: [`PathSampler::pixel_2d`] first, then whatever the camera and the
+/// order: [`Sampler::pixel_2d`] first, then whatever the camera and the
 /// integrator ask for.
 ///
 /// The values depend only on the seed, the pixel, the sample index and how
@@ -55,9 +68,9 @@ pub enum SamplerKind {
 /// resumed at any sample index and two runs are bit-identical.
 ///
 /// ```
-/// use lucent::sampling::{PathSampler, SamplerKind};
+/// use lucent::sampling::{Sampler, SamplerKind};
 ///
-/// let mut s = PathSampler::new(SamplerKind::Sobol, 7);
+/// let mut s = Sampler::new(SamplerKind::Sobol, 7, 16);
 /// s.start_pixel_sample(3, 4, 0);
 /// let film = s.pixel_2d();
 /// let lens = s.get_2d();
@@ -70,9 +83,13 @@ pub enum SamplerKind {
 /// assert_eq!(s.pixel_2d(), film);
 /// ```
 #[derive(Clone, Debug)]
-pub struct PathSampler {
+pub struct Sampler {
     kind: SamplerKind,
     seed: u64,
+    /// Samples per pixel of a stratified run.
+    strata: u32,
+    /// The stratified sampler's patterns, and the (x, y, run) they are for.
+    pattern: Option<(Box<PixelSampler>, (u32, u32, u32))>,
     /// Hash of (seed, x, y): the per-pixel part of every scramble seed.
     pixel_hash: u64,
     /// The sample index within the pixel.
@@ -86,10 +103,20 @@ pub struct PathSampler {
 /// 2⁻²⁴: converts a 24-bit integer to a float in `[0, 1)` exactly.
 const INV_2_24: f32 = 1.0 / (1u32 << 24) as f32;
 
-impl PathSampler {
-    /// A sampler of `kind` for a render with `seed`.
-    pub fn new(kind: SamplerKind, seed: u64) -> Self {
-        Self { kind, seed, pixel_hash: 0, index: 0, dimension: 0, rng: Pcg32::new(seed, 0) }
+impl Sampler {
+    /// A sampler of `kind` for a render with `seed` and `spp` samples per
+    /// pixel (the length of a stratified run; the other kinds ignore it).
+    pub fn new(kind: SamplerKind, seed: u64, spp: u32) -> Self {
+        Self {
+            kind,
+            seed,
+            strata: spp.max(1),
+            pattern: None,
+            pixel_hash: 0,
+            index: 0,
+            dimension: 0,
+            rng: Pcg32::new(seed, 0),
+        }
     }
 
     /// Which sequence this is.
@@ -113,6 +140,37 @@ impl PathSampler {
             SamplerKind::Sobol => {
                 self.pixel_hash = mix_seed(&[self.seed, x as u64, y as u64]);
             }
+            SamplerKind::Stratified => {
+                let run = index / self.strata;
+                let key = (x, y, run);
+                if !matches!(&self.pattern, Some((_, k)) if *k == key) {
+                    let mut pixel = match self.pattern.take() {
+                        Some((p, _)) => p,
+                        None => Box::new(PixelSampler::new(self.strata)),
+                    };
+                    // The first run is seeded as the classic renderer always
+                    // was; later runs mix in their number.
+                    let seed = if run == 0 { self.seed } else { mix_seed(&[self.seed, run as u64]) };
+                    pixel.start_pixel(seed, x, y, self.strata);
+                    self.pattern = Some((pixel, key));
+                }
+                self.rng = Pcg32::new(mix_seed(&[self.seed, x as u64, y as u64, index as u64]), 1);
+            }
+        }
+    }
+
+    /// The stratified pattern's value for the current dimension, if it has
+    /// one (dimension 0: film, 1: lens), and advance.
+    #[inline]
+    fn stratified_2d(&mut self) -> Option<Vec2> {
+        let d = self.dimension;
+        self.dimension = self.dimension.wrapping_add(1);
+        let (pattern, _) = self.pattern.as_ref()?;
+        let i = (self.index % self.strata) as usize;
+        match d {
+            0 => Some(pattern.film(i)),
+            1 => Some(pattern.lens(i)),
+            _ => None,
         }
     }
 
@@ -121,6 +179,10 @@ impl PathSampler {
     pub fn get_1d(&mut self) -> f32 {
         match self.kind {
             SamplerKind::Independent => self.rng.uniform(),
+            SamplerKind::Stratified => {
+                self.dimension = self.dimension.wrapping_add(1);
+                self.rng.uniform()
+            }
             SamplerKind::Sobol => {
                 let (h_index, h_x, _) = self.dimension_hashes();
                 let j = nested_uniform_scramble(self.index, h_index);
@@ -135,6 +197,11 @@ impl PathSampler {
     #[inline]
     pub fn get_2d(&mut self) -> Vec2 {
         match self.kind {
+            SamplerKind::Stratified => self.stratified_2d().unwrap_or_else(|| {
+                let u = self.rng.uniform();
+                let v = self.rng.uniform();
+                Vec2::new(u, v)
+            }),
             SamplerKind::Independent => {
                 // Two statements: the x draw comes first, whatever the
                 // compiler's evaluation order of a tuple would be.
@@ -293,7 +360,7 @@ mod tests {
     /// `n` successive 2D values of dimension pair `dim` (the `dim`-th
     /// request of each sample) for pixel `(x, y)`, samples `0..n`.
     fn points_2d(kind: SamplerKind, seed: u64, x: u32, y: u32, dim: usize, n: u32) -> Vec<Vec2> {
-        let mut s = PathSampler::new(kind, seed);
+        let mut s = Sampler::new(kind, seed, 16);
         (0..n)
             .map(|i| {
                 s.start_pixel_sample(x, y, i);
@@ -379,10 +446,40 @@ mod tests {
         }
     }
 
+    /// The stratified sampler's first run of each pixel is exactly the
+    /// classic renderer's pattern, and later runs are new patterns,
+    /// stratified alike.
+    #[test]
+    fn stratified_runs_are_the_classic_patterns() {
+        for spp in [1, 4, 9, 10] {
+            let mut s = Sampler::new(SamplerKind::Stratified, 21, spp);
+            let mut classic = PixelSampler::new(spp);
+            classic.start_pixel(21, 5, 8, spp);
+            for i in 0..spp {
+                s.start_pixel_sample(5, 8, i);
+                assert_eq!(s.pixel_2d(), classic.film(i as usize), "spp {spp}, sample {i}");
+                assert_eq!(s.get_2d(), classic.lens(i as usize), "spp {spp}, sample {i}");
+            }
+            if spp == 9 {
+                let mut cells = [0; 9];
+                for i in spp..2 * spp {
+                    s.start_pixel_sample(5, 8, i);
+                    let p = s.pixel_2d();
+                    cells[(p.y * 3.0) as usize * 3 + (p.x * 3.0) as usize] += 1;
+                    s.start_pixel_sample(5, 8, i - spp);
+                    let first_run = s.pixel_2d();
+                    s.start_pixel_sample(5, 8, i);
+                    assert_ne!(s.pixel_2d(), first_run);
+                }
+                assert_eq!(cells, [1; 9], "the second run is a jittered grid too");
+            }
+        }
+    }
+
     #[test]
     fn values_are_in_unit_interval() {
-        for kind in [SamplerKind::Independent, SamplerKind::Sobol] {
-            let mut s = PathSampler::new(kind, 3);
+        for kind in [SamplerKind::Independent, SamplerKind::Sobol, SamplerKind::Stratified] {
+            let mut s = Sampler::new(kind, 3, 16);
             for i in 0..2000 {
                 s.start_pixel_sample(i % 7, i / 7, i);
                 for _ in 0..20 {
@@ -399,16 +496,16 @@ mod tests {
 
     #[test]
     fn deterministic_and_independent_of_history() {
-        for kind in [SamplerKind::Independent, SamplerKind::Sobol] {
-            let draw = |s: &mut PathSampler, x, y, i| {
+        for kind in [SamplerKind::Independent, SamplerKind::Sobol, SamplerKind::Stratified] {
+            let draw = |s: &mut Sampler, x, y, i| {
                 s.start_pixel_sample(x, y, i);
                 let mut v = vec![s.pixel_2d()];
                 v.push(Vec2::splat(s.get_1d()));
                 v.push(s.get_2d());
                 v
             };
-            let mut a = PathSampler::new(kind, 11);
-            let mut b = PathSampler::new(kind, 11);
+            let mut a = Sampler::new(kind, 11, 16);
+            let mut b = Sampler::new(kind, 11, 16);
             // b renders other pixels and samples first: a resumed or
             // differently scheduled render.
             for i in 0..50 {
@@ -421,7 +518,7 @@ mod tests {
             assert_ne!(va, draw(&mut a, 3, 5, 64), "{kind:?}");
             assert_ne!(va, draw(&mut a, 2, 6, 64), "{kind:?}");
             assert_ne!(va, draw(&mut a, 2, 5, 65), "{kind:?}");
-            assert_ne!(va, draw(&mut PathSampler::new(kind, 12), 2, 5, 64), "{kind:?}");
+            assert_ne!(va, draw(&mut Sampler::new(kind, 12, 16), 2, 5, 64), "{kind:?}");
         }
     }
 
@@ -443,7 +540,7 @@ mod tests {
 
     #[test]
     fn sobol_1d_dimensions_are_stratified() {
-        let mut s = PathSampler::new(SamplerKind::Sobol, 5);
+        let mut s = Sampler::new(SamplerKind::Sobol, 5, 16);
         for dim in 0..5 {
             for k in 0..=10 {
                 let n = 1usize << k;
@@ -500,7 +597,7 @@ mod tests {
         // coordinates among the first four 2D requests, over many pixels.
         let n = 64u32;
         let pixels = 256u32;
-        let mut s = PathSampler::new(SamplerKind::Sobol, 42);
+        let mut s = Sampler::new(SamplerKind::Sobol, 42, 16);
         let coords = 8;
         let mut sums = vec![0.0f64; coords * coords];
         for p in 0..pixels {
@@ -534,7 +631,7 @@ mod tests {
 
     #[test]
     fn independent_matches_its_generator() {
-        let mut s = PathSampler::new(SamplerKind::Independent, 8);
+        let mut s = Sampler::new(SamplerKind::Independent, 8, 16);
         s.start_pixel_sample(1, 2, 3);
         let mut rng = Pcg32::new(mix_seed(&[8, 1, 2, 3]), 0);
         let v = s.get_2d();

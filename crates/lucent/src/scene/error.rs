@@ -59,6 +59,15 @@ impl SceneError {
         let line_text = location.and_then(|l| source.lines().nth(l.line - 1)).map(str::to_owned);
         Self { path, location, message: message.into(), line_text }
     }
+
+    /// An error of the scene builder (which knows no file) placed in a
+    /// scene file: at `location` in `source`, its message prefixed with
+    /// `what` (the object it concerns, as the file names it) unless that is
+    /// empty.
+    pub fn in_file(self, path: Option<PathBuf>, source: &str, location: Option<SourceLocation>, what: &str) -> Self {
+        let message = if what.is_empty() { self.message } else { format!("{what}: {}", self.message) };
+        Self::at(path, source, location, message)
+    }
 }
 
 impl fmt::Display for SceneError {

@@ -1,5 +1,5 @@
+use super::mesh_bvh::MeshBvh;
 use super::{ShapeError, ShapeHit};
-use crate::accel::MeshBvh;
 use crate::geometry::{gamma, Bounds3, Ray, Vec2, Vec3};
 use crate::mesh::TriangleMesh;
 

@@ -1,18 +1,20 @@
 //! Shapes: geometry that a ray can intersect and that can bound itself.
 //!
-//! Shapes live in their own object space; a [`crate::scene::Primitive`]
-//! places one in the world with a transform and gives it a material.
+//! Shapes live in their own object space; a primitive (the layer above,
+//! `primitive`) places one in the world with a transform and gives it a material.
 //! Each intersection routine returns the hit point together with a
 //! conservative bound on its floating-point error, so that rays spawned from
 //! it can be offset robustly (see [`crate::geometry::offset_ray_origin`]).
 
 mod mesh;
+mod mesh_bvh;
 mod plane;
 mod sphere;
 mod triangle;
 pub mod watertight;
 
 pub use mesh::Mesh;
+pub use mesh_bvh::{MeshBvh, MeshHit};
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::Triangle;

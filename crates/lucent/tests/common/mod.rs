@@ -208,17 +208,78 @@ impl Rng {
     }
 }
 
+/// A scene under construction with its render settings, for tests that set
+/// things up field by field: a [`SceneBuilder`] (every object goes through
+/// it, validated as usual) with the ambient light, background and
+/// [`RenderSettings`] kept as plain fields until [`TestScene::build`].
+#[derive(Clone)]
+pub struct TestScene {
+    pub builder: SceneBuilder,
+    pub settings: RenderSettings,
+    pub ambient: Color,
+    pub background: Color,
+    pub environment: Option<lucent::light::Environment>,
+}
+
+impl TestScene {
+    pub fn new(camera: Camera) -> Self {
+        Self {
+            builder: SceneBuilder::new(camera),
+            settings: RenderSettings::default(),
+            ambient: Color::ZERO,
+            background: Color::ZERO,
+            environment: None,
+        }
+    }
+
+    pub fn add_material(&mut self, material: Material) -> MaterialId {
+        self.builder.add_material(material).unwrap()
+    }
+
+    pub fn add(&mut self, primitive: Primitive) {
+        self.builder.add(primitive, None).unwrap();
+    }
+
+    pub fn add_light(&mut self, light: Light) {
+        self.builder.add_light(light);
+    }
+
+    pub fn add_emissive(&mut self, primitive: Primitive, radiance: Color, two_sided: bool) -> Result<(), SceneError> {
+        self.builder.add(primitive, Some(Emission { radiance, two_sided })).map(|_| ())
+    }
+
+    pub fn set_environment(&mut self, environment: Option<lucent::light::Environment>) {
+        self.environment = environment;
+    }
+
+    /// The scene, built.
+    pub fn build(&self) -> Scene {
+        let mut b = self.builder.clone();
+        b.set_ambient(self.ambient).unwrap();
+        b.set_background(self.background).unwrap();
+        if let Some(env) = &self.environment {
+            b.set_environment(env.clone()).unwrap();
+        }
+        b.build().unwrap()
+    }
+}
+
 /// A scene around `camera` with one sample per pixel, so that pixel `(x, y)`
 /// is exactly the radiance along the ray through its centre.
-pub fn scene_one_spp(camera: Camera) -> Scene {
-    let mut scene = Scene::new(camera);
+pub fn scene_one_spp(camera: Camera) -> TestScene {
+    let mut scene = TestScene::new(camera);
     scene.settings.spp = 1;
     scene
 }
 
-/// Render with default options.
-pub fn render_film(scene: &Scene) -> Film {
-    render(scene, &RenderOptions::default()).unwrap().film
+/// Build and render with default options.
+pub fn render_film(scene: &TestScene) -> Film {
+    render(&scene.build(), &scene.settings, RenderOptions::default()).unwrap().film
+}
+
+/// Render a loaded scene file with its own settings and default options.
+pub fn render_loaded(loaded: &LoadedScene) -> Film {
+    render(&loaded.scene, &loaded.settings, RenderOptions::default()).unwrap().film
 }
 
 /// A camera for tests that never render (only `scene.intersect` is used).

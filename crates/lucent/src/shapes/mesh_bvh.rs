@@ -1,11 +1,10 @@
 //! A BVH over the triangles of one mesh, in the mesh's object space: the
 //! bottom level of lucent's two-level acceleration structure.
 
-use super::bvh::{prefetch, BoxRay, Bvh};
-use super::pages::PageArray;
+use super::watertight::{intersect_block, TriangleBlock, WatertightRay};
+use crate::accel::{prefetch, BoxRay, Bvh, PageArray};
 use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::mesh::TriangleMesh;
-use crate::shapes::watertight::{intersect_block, TriangleBlock, WatertightRay};
 use rayon::prelude::*;
 
 /// A closest hit on a mesh.

@@ -20,8 +20,9 @@
 //! single file of a list may have none, as long as the list has some).
 //! Normals are kept only when every file of a list has them.
 
-use super::ply::parse_ply_allow_empty;
-use super::{parse_ply, read_file, uv_sphere, MeshError, TriangleMesh};
+use super::uv_sphere::{uv_sphere, MAX_SPHERE_CELLS};
+use crate::mesh::ply::parse_ply_allow_empty;
+use crate::mesh::{parse_ply, read_file, MeshError, TriangleMesh};
 use std::path::{Path, PathBuf};
 
 /// Whether `bytes` start the way the protocol recognizes a PLY file.
@@ -72,7 +73,7 @@ fn parse_sphere(spec: &str) -> Result<(u32, u32), String> {
         return Err(format!(
             "STACKS * SLICES = {} is more than the {} this program can hold in memory",
             u128::from(stacks) * u128::from(slices),
-            super::sphere::MAX_SPHERE_CELLS
+            MAX_SPHERE_CELLS
         ));
     }
     Ok((stacks as u32, slices as u32))

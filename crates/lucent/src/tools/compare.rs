@@ -11,8 +11,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use super::{check_image_size, Film, FilmError};
 use crate::color::Color;
+use crate::film::{check_image_size, Film, FilmError};
 use std::path::{Path, PathBuf};
 
 /// Problems reading an image file.

@@ -1,9 +1,9 @@
 //! Procedural environment maps: a simple daylight sky and a photo studio,
 //! as equirectangular [`Film`]s in the mapping of
-//! [`Environment`](super::Environment) (`+y` up, image centre towards `−z`,
+//! [`Environment`](crate::light::Environment) (`+y` up, image centre towards `−z`,
 //! `u` growing towards `+x`, top row the zenith), ready to be written as
 //! `.hdr` or `.exr` and loaded with
-//! [`Environment::from_file`](super::Environment::from_file).
+//! [`Environment::from_file`](crate::light::Environment::from_file).
 //!
 //! Both are deterministic and analytic (no physical sky model): each pixel
 //! is the solid-angle-weighted average of a 2 × 2 grid of directions inside
@@ -15,10 +15,10 @@
 //! centre) towards `+x`, i.e. the `u` direction of the image: azimuth `φ`
 //! is at `u = 1/2 + φ / 360°`.
 
-use super::environment::equirect_direction;
 use crate::color::Color;
 use crate::film::{Film, FilmError};
 use crate::geometry::{Vec2, Vec3};
+use crate::light::equirect_direction;
 use std::f32::consts::PI;
 
 /// Parameters of [`sky`].

@@ -1,6 +1,16 @@
-use super::MaterialId;
+//! Primitives: shapes placed in the world with a material, and the
+//! aggregates that find which of many primitives a ray hits first (pbrt-v4's
+//! `Primitive`, `GeometricPrimitive` and `BVHAggregate`, §7.1).
+
+mod aggregate;
+mod merge;
+
+pub use aggregate::{Aggregate, BvhAggregate, LinearAggregate};
+pub(crate) use merge::merge_loose_triangles;
+
 use crate::geometry::{Bounds3, Ray, Transform};
 use crate::interaction::SurfaceInteraction;
+use crate::material::MaterialId;
 use crate::shapes::Shape;
 use std::sync::Arc;
 
@@ -42,7 +52,7 @@ impl Primitive {
     }
 
     /// Mark the primitive as emissive: face `i` belongs to area light
-    /// `first + i` (see [`crate::scene::Scene::add_emissive`]).
+    /// `first + i` (see the scene builder's `add_emissive`).
     pub(crate) fn with_area_light(mut self, first: u32) -> Self {
         self.area_light = Some(first);
         self
@@ -55,6 +65,19 @@ impl Primitive {
     pub(crate) fn with_face_lights(mut self, table: Arc<[u32]>) -> Self {
         self.face_lights = Some(table);
         self
+    }
+
+    /// The same primitive placed with another transform (object to world);
+    /// not emissive (the builder makes a placed copy emit).
+    pub fn with_transform(&self, transform: Transform) -> Self {
+        let transform = (!transform.is_identity()).then_some(transform);
+        Self { transform, area_light: None, face_lights: None, ..self.clone() }
+    }
+
+    /// The scene material of each of a mesh's own material indices, if the
+    /// mesh's faces have their own materials.
+    pub fn face_materials(&self) -> Option<&[MaterialId]> {
+        self.face_materials.as_deref()
     }
 
     /// The index of the first of the primitive's area lights, if it emits.

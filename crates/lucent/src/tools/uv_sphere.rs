@@ -23,8 +23,8 @@
 //! That is `2 + (STACKS-1)*SLICES` vertices and `2*SLICES*(STACKS-1)`
 //! triangles: `sphere:500:1000` has 499,002 and 998,000.
 
-use super::{vec_with_capacity, MeshError, TriangleMesh};
 use crate::geometry::Vec3;
+use crate::mesh::{vec_with_capacity, MeshError, TriangleMesh};
 use std::f64::consts::PI;
 
 /// The largest `STACKS * SLICES` accepted: 2·10⁸ cells are 4·10⁸ triangles,

@@ -1,0 +1,209 @@
+//! `lucent render`: one path for every integrator. Progressive passes, a
+//! time budget, checkpoints (the image so far, and the accumulated samples),
+//! resuming, and a clean stop on Ctrl-C or SIGTERM.
+
+use crate::cli::RenderArgs;
+use crate::progress::FractionProgress;
+use lucent::film::{load_checkpoint, save_checkpoint, Accumulator, CheckpointError, PendingImage};
+use lucent::loader::{LoadedScene, SceneFile, MAX_SPP};
+use lucent::render::{render_into, PassInfo, RenderError, RenderOptions};
+use lucent::sampling::SamplerKind;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// Set by Ctrl-C (SIGINT) or SIGTERM: the render stops after the rows under
+/// way, and what was rendered is kept as a checkpoint.
+pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// Route SIGINT and SIGTERM to [`INTERRUPTED`], so that the process ends
+/// through its normal path: temporary files are removed by their
+/// destructors and a checkpoint is written. A second signal while the first
+/// is being handled is absorbed the same way.
+pub fn handle_interrupts() {
+    // Failing to install the handler (another one is set) leaves the
+    // default behaviour: the process dies, as before.
+    let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst));
+}
+
+/// Where the accumulated samples of a render to `output` are kept.
+pub fn checkpoint_path(output: &Path) -> PathBuf {
+    let mut name = output.as_os_str().to_owned();
+    name.push(".ckpt");
+    PathBuf::from(name)
+}
+
+/// FNV-1a, 64-bit: stable across runs and platforms, unlike std's randomly
+/// keyed hasher.
+fn fnv1a(hash: u64, bytes: &[u8]) -> u64 {
+    bytes.iter().fold(hash, |h, &b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
+}
+
+/// A fingerprint of everything that decides the samples of a render: the
+/// scene description with its sample count and display settings (tone
+/// mapping, sRGB) left out, since those may change between a render and
+/// its continuation; the settings as resolved (so a default written out
+/// explicitly fingerprints the same as the default); and the contents of
+/// every mesh and environment file the scene read. The stratified sampler
+/// lays each pixel's samples out as grids of `spp`, so with it the sample
+/// count is part of the fingerprint too.
+fn fingerprint(file: &SceneFile, loaded: &LoadedScene) -> Result<u64, String> {
+    let mut d = file.description.clone();
+    d.render.spp = lucent::loader::SampleCount(1);
+    d.render.tone_map = Default::default();
+    d.render.srgb = true;
+    d.render.max_depth = None;
+    d.render.sampler = None;
+    let mut settings = loaded.settings.clone();
+    if settings.sampler != SamplerKind::Stratified {
+        settings.spp = 1;
+    }
+    settings.tone_map = Default::default();
+    settings.srgb = true;
+    let mut h = fnv1a(0xcbf2_9ce4_8422_2325, format!("{d:?}\n{settings:?}").as_bytes());
+    for path in &loaded.files {
+        let bytes = std::fs::read(path).map_err(|e| format!("cannot read {} again: {e}", path.display()))?;
+        h = fnv1a(fnv1a(h, path.to_string_lossy().as_bytes()), &bytes);
+    }
+    Ok(h)
+}
+
+pub fn run(args: &RenderArgs, file: &SceneFile, loaded: &LoadedScene, out_path: &Path) -> Result<(), String> {
+    let (scene, settings) = (&loaded.scene, &loaded.settings);
+    let (w, h) = (scene.camera().width(), scene.camera().height());
+    // Reserve the output now: a bad path fails before any rendering.
+    let pending = PendingImage::create(out_path).map_err(|e| e.to_string())?;
+    let ckpt = checkpoint_path(out_path);
+    let fp = fingerprint(file, loaded)?;
+    let mut acc = if args.resume {
+        if !ckpt.exists() {
+            return Err(format!(
+                "--resume: there is no checkpoint {} to continue from (one is written by a render to {} with --checkpoint-every or --resume, or one that was interrupted)",
+                ckpt.display(),
+                out_path.display()
+            ));
+        }
+        load_checkpoint(&ckpt, fp, w, h).map_err(|e| match e {
+            CheckpointError::Mismatch { .. } if settings.sampler == SamplerKind::Stratified => format!(
+                "{e}; with the stratified sampler each pixel's samples form one grid of --spp, so a render resumes only with the same --spp (to add samples later, render with --sampler sobol)"
+            ),
+            e => e.to_string(),
+        })?
+    } else {
+        Accumulator::new(w, h).map_err(|e| e.to_string())?
+    };
+    // With a time budget and no explicit --spp, the budget alone decides.
+    let target = match (args.time, args.overrides.spp) {
+        (Some(_), None) => MAX_SPP,
+        _ => settings.spp,
+    };
+    let resumed_at = acc.spp();
+    let keep_state = args.checkpoint_every.is_some() || args.resume;
+    let (tone_map, srgb) = (settings.tone_map, settings.srgb);
+
+    let bar = FractionProgress::new(args.quiet);
+    let report = |f: f64| bar.set(f);
+    let interval = args.checkpoint_every.map(Duration::from_secs_f64);
+    let mut last_checkpoint = Instant::now();
+    // The final state is saved after the render: the render may end on its
+    // time budget without a pass flagged last.
+    let mut on_pass = |acc: &Accumulator, info: &PassInfo| -> Result<(), String> {
+        let due = interval.is_some_and(|i| last_checkpoint.elapsed() >= i);
+        if keep_state && due && !info.last {
+            save_checkpoint(&ckpt, acc, fp).map_err(|e| e.to_string())?;
+            // The image in progress, for watching.
+            let image = PendingImage::create(out_path).map_err(|e| e.to_string())?;
+            image.write(&acc.to_film(), tone_map, srgb).map_err(|e| e.to_string())?;
+            last_checkpoint = Instant::now();
+        }
+        Ok(())
+    };
+    if INTERRUPTED.load(Ordering::SeqCst) {
+        return Err("interrupted before rendering began; nothing was written".into());
+    }
+    let output = if acc.spp() < target {
+        let options = RenderOptions {
+            threads: args.threads,
+            spp: Some(target),
+            time_limit: args.time.map(Duration::from_secs_f64),
+            pass_interval: interval,
+            progress: Some(&report),
+            on_pass: Some(&mut on_pass),
+            cancel: Some(&INTERRUPTED),
+        };
+        match render_into(scene, settings, &mut acc, options) {
+            Ok(out) => Some(out),
+            Err(RenderError::Interrupted) => {
+                bar.finish();
+                return Err(interrupted(&ckpt, &acc, fp, resumed_at));
+            }
+            Err(e) => return Err(e.to_string()),
+        }
+    } else {
+        None
+    };
+    bar.finish();
+    if keep_state && output.is_some() {
+        save_checkpoint(&ckpt, &acc, fp).map_err(|e| e.to_string())?;
+    }
+    pending.write(&acc.to_film(), tone_map, srgb).map_err(|e| e.to_string())?;
+
+    if let Some(out) = &output {
+        if out.nonfinite > 0 && !args.quiet {
+            eprintln!("warning: {} samples had NaN or infinite radiance and were discarded", out.nonfinite);
+        }
+    }
+    if !args.quiet {
+        match output {
+            Some(out) => {
+                let samples = w as f64 * h as f64 * out.spp_added as f64;
+                let secs = out.elapsed.as_secs_f64();
+                let resumed = if resumed_at > 0 {
+                    format!(" ({} resumed + {} now)", resumed_at, out.spp_added)
+                } else {
+                    String::new()
+                };
+                say!(
+                    "{}: {}×{}, {} spp{resumed}, {:.2} s, {:.2} M samples/s, {:.1} M rays, {:.2} Mrays/s",
+                    out_path.display(),
+                    w,
+                    h,
+                    acc.spp(),
+                    secs,
+                    samples / secs.max(1e-9) / 1e6,
+                    out.stats.total() as f64 / 1e6,
+                    out.mrays_per_second()
+                )?;
+            }
+            None => say!(
+                "{}: {}×{}, {} spp from {} (nothing to add for --spp {target})",
+                out_path.display(),
+                w,
+                h,
+                acc.spp(),
+                ckpt.display()
+            )?,
+        }
+        if keep_state {
+            say!("samples kept in {} (continue with --resume and a larger --spp)", ckpt.display())?;
+        }
+    }
+    Ok(())
+}
+
+/// After an interrupted render: keep the samples of the whole passes as a
+/// checkpoint (unless there are none new), and say how to continue. The
+/// output image is left as it was.
+fn interrupted(ckpt: &Path, acc: &Accumulator, fp: u64, resumed_at: u32) -> String {
+    if acc.spp() == 0 || acc.spp() == resumed_at {
+        return "interrupted: no whole pass of samples was finished; nothing was written".into();
+    }
+    match save_checkpoint(ckpt, acc, fp) {
+        Ok(()) => format!(
+            "interrupted after {} spp; the samples are kept in {} (continue with the same command and --resume)",
+            acc.spp(),
+            ckpt.display()
+        ),
+        Err(e) => format!("interrupted after {} spp, and the checkpoint could not be written: {e}", acc.spp()),
+    }
+}

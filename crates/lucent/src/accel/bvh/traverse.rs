@@ -1,0 +1,386 @@
+//! Traversal: rays prepared for SIMD slab tests, the ordering of hit
+//! children, and the stack-based closest-hit and any-hit loops.
+
+use super::build::MAX_SAH_DEPTH;
+use super::node::{BvhNode, GROUPS, NODE_LINES, WIDTH};
+use super::Bvh;
+use crate::geometry::{gamma, Vec3};
+use glam::Vec4;
+
+/// Capacity of the traversal stack: at most `WIDTH - 1` entries are pushed per
+/// level of the wide tree, which is no deeper than the binary one
+/// (at most `MAX_SAH_DEPTH + 32` levels).
+const STACK_SIZE: usize = (WIDTH - 1) * (MAX_SAH_DEPTH + 32) + WIDTH;
+
+/// A ray prepared for box tests: origin and reciprocal direction, each
+/// coordinate splatted over four lanes, and for each axis which of a node's
+/// two slab planes the ray meets first.
+#[derive(Clone, Copy, Debug)]
+pub struct BoxRay {
+    origin: [Vec4; 3],
+    inv_dir: [Vec4; 3],
+    /// `inv_dir` times [`FAR_SCALE`], for the far planes.
+    inv_dir_far: [Vec4; 3],
+    /// Index into [`BvhNode::planes`] of the near plane on each axis (the
+    /// lower one for a positive direction): always below 6.
+    near: [usize; 3],
+    /// The far plane's index, likewise.
+    far: [usize; 3],
+}
+
+/// Enlargement of the far slab distance that makes the box test
+/// conservative: PBRT 4th ed., §6.8.2 bounds the rounding error of each of
+/// `(x − o)·(1/d)` and the near distance by γ₃ relative; the scale is folded
+/// into the reciprocal direction here, which is one more rounding, hence γ₅
+/// instead of γ₃ for margin.
+const FAR_SCALE: f32 = 1.0 + 2.0 * gamma(5);
+
+impl BoxRay {
+    /// Prepare `origin + t dir`.
+    #[inline]
+    pub fn new(origin: Vec3, dir: Vec3) -> Self {
+        let inv = dir.recip();
+        let neg = [inv.x < 0.0, inv.y < 0.0, inv.z < 0.0];
+        let near = std::array::from_fn(|a| a + 3 * neg[a] as usize);
+        let far = std::array::from_fn(|a| a + 3 * !neg[a] as usize);
+        Self {
+            origin: [Vec4::splat(origin.x), Vec4::splat(origin.y), Vec4::splat(origin.z)],
+            inv_dir: [Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z)],
+            inv_dir_far: [
+                Vec4::splat(inv.x * FAR_SCALE),
+                Vec4::splat(inv.y * FAR_SCALE),
+                Vec4::splat(inv.z * FAR_SCALE),
+            ],
+            near,
+            far,
+        }
+    }
+}
+
+/// Entry distances of the ray into the node's child boxes, and the mask of
+/// those that overlap `[t_min, t_max]`: the slab test on four boxes per
+/// SIMD pass. Conservative: never misses a touched box.
+#[inline(always)]
+fn intersect_children(node: &BvhNode, ray: &BoxRay, t_min: f32, t_max: f32) -> ([f32; WIDTH], u32) {
+    let planes = node.planes();
+    let mut t = [0.0; WIDTH];
+    let mut mask = 0;
+    for g in 0..GROUPS {
+        let mut t0 = Vec4::splat(t_min);
+        let mut t1 = Vec4::splat(t_max);
+        for axis in 0..3 {
+            // SAFETY: `near` and `far` hold indices below 6 (`BoxRay::new`).
+            let (near, far) =
+                unsafe { (planes.get_unchecked(ray.near[axis])[g], planes.get_unchecked(ray.far[axis])[g]) };
+            // `x.max(acc)` is one SIMD max whose result is `acc` when `x` is
+            // NaN (a ray lying in a slab's plane: 0 · ∞), which leaves that
+            // slab unconstrained.
+            t0 = ((near - ray.origin[axis]) * ray.inv_dir[axis]).max(t0);
+            t1 = ((far - ray.origin[axis]) * ray.inv_dir_far[axis]).min(t1);
+        }
+        mask |= t0.cmple(t1).bitmask() << (4 * g);
+        t[4 * g..4 * g + 4].copy_from_slice(&t0.to_array());
+    }
+    (t, mask)
+}
+
+/// What waits on the traversal stack: a node, or a leaf's primitive range,
+/// with the distance at which the ray enters its box.
+#[derive(Clone, Copy, Default)]
+struct StackEntry {
+    /// Node index, or first primitive slot of a leaf.
+    index: u32,
+    /// 0 for a node, else the leaf's primitive count.
+    count: u32,
+    t: f32,
+}
+
+/// The traversal stack, on the call stack and left uninitialised: zeroing
+/// a few kilobytes per ray would cost more than many box tests.
+struct Stack {
+    entries: [std::mem::MaybeUninit<StackEntry>; STACK_SIZE],
+    len: usize,
+}
+
+impl Stack {
+    #[inline(always)]
+    fn new() -> Self {
+        Self { entries: [std::mem::MaybeUninit::uninit(); STACK_SIZE], len: 0 }
+    }
+
+    #[inline(always)]
+    fn push(&mut self, e: StackEntry) {
+        // The tree's depth bound makes overflow impossible; the index check
+        // stays, so a broken bound would panic rather than corrupt memory.
+        self.entries[self.len].write(e);
+        self.len += 1;
+    }
+
+    #[inline(always)]
+    fn pop(&mut self) -> Option<StackEntry> {
+        if self.len == 0 {
+            return None;
+        }
+        self.len -= 1;
+        // SAFETY: every slot below `len` was written by `push`.
+        Some(unsafe { self.entries[self.len].assume_init() })
+    }
+}
+
+/// Ask the memory system for the `lines` cache lines at `p` without
+/// waiting for them: a stacked node or leaf is usually visited only after
+/// the nearer subtree, so its memory latency overlaps that work (incoherent
+/// rays miss the caches on most nodes of a large tree).
+#[inline(always)]
+pub fn prefetch<T>(p: *const T, lines: usize) {
+    #[cfg(target_arch = "x86_64")]
+    for line in 0..lines {
+        // SAFETY: a prefetch is a hint; it never faults, whatever address.
+        #[allow(unused_unsafe)]
+        unsafe {
+            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+            _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>().wrapping_add(64 * line));
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (p, lines);
+}
+
+/// Bits of a sort key that hold the child's slot.
+const SLOT_BITS: u32 = (WIDTH - 1) as u32;
+
+/// Sort keys for the hit children of a node, in slot order, and how many
+/// there are: the entry distance's bits with the child's slot in the lowest
+/// three. Distances are never negative (they start at `t_min ≥ 0`), and the
+/// bits of non-negative floats order as the floats do, so the keys sort
+/// nearest first; clearing three bits rounds a distance down, which only
+/// makes the stack's culling test more cautious.
+#[inline(always)]
+fn child_keys(t: &[f32; WIDTH], mut mask: u32) -> ([u32; WIDTH], usize) {
+    let mut keys = [u32::MAX; WIDTH];
+    let mut n = 0;
+    while mask != 0 {
+        let i = mask.trailing_zeros();
+        mask &= mask - 1;
+        keys[n] = (t[i as usize].to_bits() & !SLOT_BITS) | i;
+        n += 1;
+    }
+    (keys, n)
+}
+
+/// The slot and entry distance of a child from its sort key.
+#[inline(always)]
+fn key_child(key: u32) -> (usize, f32) {
+    ((key & SLOT_BITS) as usize, f32::from_bits(key & !SLOT_BITS))
+}
+
+/// Sort the first `n` keys ascending (insertion sort: `n` is at most
+/// [`WIDTH`] and usually three or four).
+#[inline(always)]
+fn sort_keys(k: &mut [u32; WIDTH], n: usize) {
+    for i in 1..n {
+        let key = k[i];
+        let mut j = i;
+        while j > 0 && k[j - 1] > key {
+            k[j] = k[j - 1];
+            j -= 1;
+        }
+        k[j] = key;
+    }
+}
+
+impl Bvh {
+    /// Closest-hit traversal. `test(first, count, t_max)` intersects the
+    /// primitives of a leaf (slots `first..first + count` of
+    /// [`Bvh::primitives`], unless remapped) and, on a hit closer than
+    /// `*t_max`, shrinks `*t_max` and returns true. Leaves are visited
+    /// roughly front to back. Returns whether anything was hit.
+    ///
+    /// `prefetch_leaf(first)` is called for a leaf that is put aside to be
+    /// tested later, so that its primitives can be fetched into the caches
+    /// meanwhile; `|_| {}` is always correct.
+    #[inline]
+    pub fn traverse_closest<F, P>(&self, ray: &BoxRay, t_min: f32, t_max: &mut f32, prefetch_leaf: P, test: F) -> bool
+    where
+        F: FnMut(u32, u32, &mut f32) -> bool,
+        P: Fn(u32),
+    {
+        self.traverse::<false, F, P>(ray, t_min, t_max, prefetch_leaf, test)
+    }
+
+    /// Any-hit traversal: stops at the first leaf for which
+    /// `test(first, count)` returns true. `prefetch_leaf` is as for
+    /// [`Bvh::traverse_closest`].
+    #[inline]
+    pub fn traverse_any<F, P>(&self, ray: &BoxRay, t_min: f32, t_max: f32, prefetch_leaf: P, mut test: F) -> bool
+    where
+        F: FnMut(u32, u32) -> bool,
+        P: Fn(u32),
+    {
+        let mut t_max = t_max;
+        self.traverse::<true, _, _>(ray, t_min, &mut t_max, prefetch_leaf, |first, count, _| test(first, count))
+    }
+
+    /// The traversal loop of both kinds of query. It follows the nearest
+    /// hit child of each node directly and stacks the others, farthest
+    /// first, with their entry distances; an entry whose box starts beyond
+    /// the closest hit found by the time it is popped is dropped (the
+    /// single-ray scheme of Embree: Wald et al., ACM TOG 33(4), 2014). With
+    /// `ANY`, the first leaf that reports a hit ends the traversal.
+    #[inline(always)]
+    fn traverse<const ANY: bool, F, P>(
+        &self,
+        ray: &BoxRay,
+        t_min: f32,
+        t_max: &mut f32,
+        prefetch_leaf: P,
+        mut test: F,
+    ) -> bool
+    where
+        F: FnMut(u32, u32, &mut f32) -> bool,
+        P: Fn(u32),
+    {
+        if self.nodes.is_empty() {
+            return false;
+        }
+        let mut hit = false;
+        let mut stack = Stack::new();
+        let mut current = StackEntry::default();
+        loop {
+            if current.count > 0 {
+                if test(current.index, current.count, t_max) {
+                    hit = true;
+                    if ANY {
+                        return true;
+                    }
+                }
+            } else {
+                let node = &self.nodes[current.index as usize];
+                let (t, mask) = intersect_children(node, ray, t_min, *t_max);
+                if mask != 0 {
+                    let at = |i: usize, t: f32| StackEntry { index: node.child[i], count: node.count[i], t };
+                    let mut push = |e: StackEntry| {
+                        if e.count == 0 {
+                            prefetch(self.nodes.as_ptr().wrapping_add(e.index as usize), NODE_LINES);
+                        } else {
+                            prefetch_leaf(e.index);
+                        }
+                        stack.push(e);
+                    };
+                    if ANY {
+                        // Any hit: no distance order. The highest slot goes
+                        // first and the rest wait in slot order, which
+                        // measured faster than nearest first for shadow rays
+                        // leaving a surface (the nearest boxes hold that
+                        // surface, which cannot occlude).
+                        let last = (31 - mask.leading_zeros()) as usize;
+                        let mut rest = mask & !(1 << last);
+                        while rest != 0 {
+                            let i = rest.trailing_zeros() as usize;
+                            rest &= rest - 1;
+                            push(at(i, 0.0));
+                        }
+                        current = at(last, 0.0);
+                        continue;
+                    }
+                    let first = mask.trailing_zeros() as usize;
+                    if mask & (mask - 1) == 0 {
+                        // One child hit: go straight to it.
+                        current = at(first, t[first]);
+                        continue;
+                    }
+                    if mask.count_ones() == 2 {
+                        let last = (31 - mask.leading_zeros()) as usize;
+                        let (near, far) = if t[last] < t[first] { (last, first) } else { (first, last) };
+                        push(at(far, t[far]));
+                        current = at(near, t[near]);
+                        continue;
+                    }
+                    let child = |key: u32| {
+                        let (i, t) = key_child(key);
+                        at(i, t)
+                    };
+                    let (mut keys, hits) = child_keys(&t, mask);
+                    sort_keys(&mut keys, hits);
+                    for &key in keys[1..hits].iter().rev() {
+                        push(child(key));
+                    }
+                    current = child(keys[0]);
+                    continue;
+                }
+            }
+            // Resume with the nearest stacked entry that may still hold a
+            // closer hit.
+            loop {
+                match stack.pop() {
+                    None => return hit,
+                    Some(entry) if entry.t <= *t_max => {
+                        current = entry;
+                        break;
+                    }
+                    Some(_) => {}
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Bounds3;
+    use crate::sampling::Pcg32;
+
+    use super::super::node::EMPTY_NODE;
+
+    #[test]
+    fn box_test_is_conservative_for_axis_parallel_rays() {
+        let mut node = EMPTY_NODE;
+        node.set_child_bounds(0, &Bounds3::from_points(Vec3::ZERO, Vec3::ONE));
+        // A ray lying exactly in the plane x = 0 of the box's face.
+        let r = BoxRay::new(Vec3::new(0.0, 0.5, -1.0), Vec3::Z);
+        assert_eq!(intersect_children(&node, &r, 0.0, f32::INFINITY).1, 1);
+        let r = BoxRay::new(Vec3::new(-0.1, 0.5, -1.0), Vec3::Z);
+        assert_eq!(intersect_children(&node, &r, 0.0, f32::INFINITY).1, 0);
+        // Empty slots are never entered, whatever the direction's signs.
+        for d in [Vec3::new(1.0, -1.0, 0.5), Vec3::new(-1.0, 1.0, -0.5), Vec3::X, -Vec3::Y] {
+            let r = BoxRay::new(Vec3::splat(0.5), d);
+            assert_eq!(intersect_children(&node, &r, 0.0, f32::INFINITY).1, 1);
+        }
+    }
+
+    #[test]
+    fn child_keys_sort_hit_children_nearest_first() {
+        let mut rng = Pcg32::new(3, 3);
+        for round in 0..200 {
+            // Distinct distances, and in some rounds ties.
+            let t: [f32; WIDTH] = std::array::from_fn(|_| {
+                let u = rng.uniform() * 10.0;
+                if round % 4 == 0 {
+                    u.floor()
+                } else {
+                    u
+                }
+            });
+            for mask in 1..(1u32 << WIDTH) {
+                let (mut keys, hits) = child_keys(&t, mask);
+                assert_eq!(hits, mask.count_ones() as usize);
+                sort_keys(&mut keys, hits);
+                let got: Vec<usize> = keys[..hits].iter().map(|&k| key_child(k).0).collect();
+                let mut expected = got.clone();
+                expected.sort_unstable();
+                let slots: Vec<usize> = (0..WIDTH).filter(|i| mask & (1 << i) != 0).collect();
+                assert_eq!(expected, slots, "every hit child once");
+                for pair in keys[..hits].windows(2) {
+                    let ((a, ta), (b, tb)) = (key_child(pair[0]), key_child(pair[1]));
+                    assert!(ta <= tb && (ta < tb || a < b) && t[a] <= t[b] + 1e-5, "{t:?} {mask:#b}");
+                }
+                for &k in &keys[..hits] {
+                    let (i, tk) = key_child(k);
+                    // Rounded down, by less than eight units in the last place.
+                    assert!(tk <= t[i] && t[i] - tk <= 8.0 * f32::EPSILON * t[i]);
+                }
+            }
+        }
+    }
+}

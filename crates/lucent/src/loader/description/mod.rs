@@ -1,0 +1,91 @@
+//! The scene file format, as Rust types. A TOML or JSON scene file
+//! deserialises into [`SceneDescription`]; every key is documented in
+//! `docs/scene-format.md`. Unknown keys are errors.
+
+mod lights;
+mod materials;
+mod objects;
+mod settings;
+
+pub use lights::*;
+pub use materials::*;
+pub use objects::*;
+pub use settings::*;
+
+use super::values::*;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// A whole scene file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDescription {
+    /// The camera.
+    pub camera: CameraDesc,
+    /// Image and sampling settings.
+    #[serde(default)]
+    pub render: RenderDesc,
+    /// Environment light (path integrator).
+    #[serde(default)]
+    pub environment: Option<EnvironmentDesc>,
+    /// Ambient light.
+    #[serde(default)]
+    pub ambient: Option<AmbientDesc>,
+    /// Named materials.
+    #[serde(default)]
+    pub materials: BTreeMap<String, MaterialDesc>,
+    /// Point lights.
+    #[serde(default)]
+    pub point_light: Vec<PointLightDesc>,
+    /// Spot lights.
+    #[serde(default)]
+    pub spot_light: Vec<SpotLightDesc>,
+    /// Directional lights.
+    #[serde(default)]
+    pub directional_light: Vec<DirectionalLightDesc>,
+    /// Spheres.
+    #[serde(default)]
+    pub sphere: Vec<SphereDesc>,
+    /// Planes.
+    #[serde(default)]
+    pub plane: Vec<PlaneDesc>,
+    /// Triangles.
+    #[serde(default)]
+    pub triangle: Vec<TriangleDesc>,
+    /// Quadrilaterals.
+    #[serde(default)]
+    pub quad: Vec<QuadDesc>,
+    /// Groups of objects with a shared transform.
+    #[serde(default)]
+    pub group: Vec<GroupDesc>,
+    /// Named mesh files, loaded once and placed by `[[mesh]] mesh = "NAME"`.
+    #[serde(default)]
+    pub meshes: BTreeMap<String, MeshFileDesc>,
+    /// Placed meshes.
+    #[serde(default)]
+    pub mesh: Vec<MeshDesc>,
+    /// Named groups defined once and placed by `[[instance]]`.
+    #[serde(default)]
+    pub prototypes: BTreeMap<String, GroupDesc>,
+    /// Placements of prototypes.
+    #[serde(default)]
+    pub instance: Vec<InstanceDesc>,
+}
+
+// Defaults shared by several tables.
+
+fn white() -> Rgb {
+    Rgb([1.0; 3])
+}
+
+fn one() -> NonNegative {
+    NonNegative(1.0)
+}
+
+fn positive_one() -> Positive {
+    Positive(1.0)
+}
+
+fn default_up() -> Direction {
+    Direction([0.0, 1.0, 0.0])
+}

@@ -1,0 +1,273 @@
+//! Objects: shapes, meshes, groups, prototypes and instances, and their
+//! transforms.
+
+use super::super::values::*;
+use super::{default_up, positive_one};
+use serde::{de::Error as _, Deserialize, Deserializer};
+
+/// Defines the struct of an object table: the given fields plus those every
+/// object has (`name` and `transform`), written once
+/// here. (`#[serde(flatten)]` would share them as a struct, but serde does
+/// not allow it together with `deny_unknown_fields`.)
+macro_rules! object {
+    ($(#[$doc:meta])* pub struct $name:ident { $($(#[$fdoc:meta])* pub $field:ident: $ty:ty,)* }) => {
+        $(#[$doc])*
+        #[derive(Clone, Debug, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub struct $name {
+            /// Optional name for messages.
+            #[serde(default)]
+            pub name: Option<String>,
+            $($(#[$fdoc])* pub $field: $ty,)*
+            /// Object transform.
+            #[serde(default)]
+            pub transform: Vec<TransformOp>,
+        }
+    };
+}
+
+/// [`object!`] for a surface that may emit light: adds `emission` and
+/// `two_sided`.
+macro_rules! emissive_object {
+    ($(#[$doc:meta])* pub struct $name:ident { $($(#[$fdoc:meta])* pub $field:ident: $ty:ty,)* }) => {
+        object! {
+            $(#[$doc])*
+            pub struct $name {
+                $($(#[$fdoc])* pub $field: $ty,)*
+                /// Emitted radiance: the surface becomes an area light.
+                #[serde(default)]
+                pub emission: Option<Rgb>,
+                /// Whether an emitting surface emits from both sides
+                /// (default: front only).
+                #[serde(default)]
+                pub two_sided: bool,
+            }
+        }
+    };
+}
+
+/// One step of a transform list; the list is applied in the order written.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum TransformOp {
+    /// Move by `[x, y, z]`.
+    Translate(Vec3Desc),
+    /// Scale by `[x, y, z]` (no zero components).
+    Scale(#[serde(deserialize_with = "nonzero_scale")] Vec3Desc),
+    /// Rotate about x, degrees.
+    RotateX(Finite),
+    /// Rotate about y, degrees.
+    RotateY(Finite),
+    /// Rotate about z, degrees.
+    RotateZ(Finite),
+    /// Rotate about an axis.
+    Rotate(AxisAngle),
+    /// A general affine matrix, four rows of four, acting on column vectors.
+    Matrix(#[serde(deserialize_with = "affine_matrix")] [[f32; 4]; 4]),
+}
+
+// Transforms and triangles are checked as they are read, like other values,
+// so that the error points at the offending value even inside a group.
+
+fn nonzero_scale<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3Desc, D::Error> {
+    let v = Vec3Desc::deserialize(d)?;
+    if v.0.contains(&0.0) {
+        return Err(D::Error::custom(format!(
+            "scale {v} has a zero component: the transform would be singular (it flattens the object, which \
+             cannot be undone); use non-zero factors"
+        )));
+    }
+    Ok(v)
+}
+
+fn affine_matrix<'de, D: Deserializer<'de>>(d: D) -> Result<[[f32; 4]; 4], D::Error> {
+    let rows = <[[Finite; 4]; 4]>::deserialize(d)?.map(|r| r.map(Finite::get));
+    crate::geometry::Transform::from_matrix(glam::Mat4::from_cols_array_2d(&rows).transpose())
+        .map_err(|e| D::Error::custom(transform_error_message(&e)))?;
+    Ok(rows)
+}
+
+/// A user-facing message for a transform that cannot be used.
+pub(crate) fn transform_error_message(e: &crate::geometry::TransformError) -> String {
+    match e {
+        crate::geometry::TransformError::Singular(det) => format!(
+            "the transform is singular (determinant {det}): it collapses an axis, which cannot be undone; \
+             scale factors must be non-zero and matrix columns independent"
+        ),
+        other => other.to_string(),
+    }
+}
+
+fn triangle_corners<'de, D: Deserializer<'de>>(d: D) -> Result<[Vec3Desc; 3], D::Error> {
+    let v = <[Vec3Desc; 3]>::deserialize(d)?;
+    crate::shapes::Triangle::new(v.map(glam::Vec3::from), None).map_err(D::Error::custom)?;
+    Ok(v)
+}
+
+/// Axis and angle of a general rotation.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxisAngle {
+    /// Rotation axis.
+    pub axis: Direction,
+    /// Angle in degrees (right-handed about the axis).
+    pub angle: Finite,
+}
+
+emissive_object! {
+    /// A `[[sphere]]`.
+    pub struct SphereDesc {
+        /// Centre (default origin).
+        #[serde(default = "origin")]
+        pub center: Vec3Desc,
+        /// Radius (default 1).
+        #[serde(default = "positive_one")]
+        pub radius: Positive,
+        /// Material name (default: the enclosing group's).
+        #[serde(default)]
+        pub material: Option<String>,
+    }
+}
+
+fn origin() -> Vec3Desc {
+    Vec3Desc([0.0; 3])
+}
+
+object! {
+    /// A `[[plane]]`.
+    pub struct PlaneDesc {
+        /// A point on the plane (default origin).
+        #[serde(default = "origin")]
+        pub point: Vec3Desc,
+        /// Normal (default `[0, 1, 0]`).
+        #[serde(default = "default_up")]
+        pub normal: Direction,
+        /// Material name.
+        #[serde(default)]
+        pub material: Option<String>,
+    }
+}
+
+emissive_object! {
+    /// A `[[triangle]]`.
+    pub struct TriangleDesc {
+        /// The three corners, counter-clockwise seen from the front.
+        #[serde(deserialize_with = "triangle_corners")]
+        pub vertices: [Vec3Desc; 3],
+        /// Per-corner normals for smooth shading.
+        #[serde(default)]
+        pub normals: Option<[Direction; 3]>,
+        /// Material name.
+        #[serde(default)]
+        pub material: Option<String>,
+    }
+}
+
+emissive_object! {
+    /// A `[[quad]]`: a planar quadrilateral, made of the two triangles
+    /// (v0, v1, v2) and (v0, v2, v3).
+    pub struct QuadDesc {
+        /// The four corners in order around the quad, counter-clockwise seen
+        /// from the front.
+        pub vertices: [Vec3Desc; 4],
+        /// Material name.
+        #[serde(default)]
+        pub material: Option<String>,
+    }
+}
+
+/// A `[[group]]`: objects (and groups) sharing a transform.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroupDesc {
+    /// Optional name for messages.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Applied to every member, after the member's own transform.
+    #[serde(default)]
+    pub transform: Vec<TransformOp>,
+    /// Default material of members that name none.
+    #[serde(default)]
+    pub material: Option<String>,
+    /// Member spheres.
+    #[serde(default)]
+    pub sphere: Vec<SphereDesc>,
+    /// Member planes.
+    #[serde(default)]
+    pub plane: Vec<PlaneDesc>,
+    /// Member triangles.
+    #[serde(default)]
+    pub triangle: Vec<TriangleDesc>,
+    /// Member quads.
+    #[serde(default)]
+    pub quad: Vec<QuadDesc>,
+    /// Nested groups.
+    #[serde(default)]
+    pub group: Vec<GroupDesc>,
+    /// Member meshes.
+    #[serde(default)]
+    pub mesh: Vec<MeshDesc>,
+    /// Member placements of prototypes.
+    #[serde(default)]
+    pub instance: Vec<InstanceDesc>,
+}
+
+/// How a mesh gets its shading normals.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum NormalsDesc {
+    /// The file's vertex normals if it has them, else flat shading.
+    #[default]
+    File,
+    /// Computed smooth normals (angle-weighted), whatever the file has.
+    Smooth,
+    /// Flat shading: the geometric normal of each triangle.
+    Flat,
+}
+
+/// A `[meshes.NAME]` table: a mesh file loaded once.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshFileDesc {
+    /// Path of a `.ply` or `.obj` file, relative to the scene file.
+    pub file: String,
+    /// Shading normals (default `file`).
+    #[serde(default)]
+    pub normals: NormalsDesc,
+}
+
+emissive_object! {
+    /// A `[[mesh]]`: a mesh placed in the scene.
+    pub struct MeshDesc {
+        /// A mesh defined under `[meshes]`; or give `file`.
+        #[serde(default)]
+        pub mesh: Option<String>,
+        /// A mesh file (relative to the scene file); or give `mesh`.
+        #[serde(default)]
+        pub file: Option<String>,
+        /// Shading normals, with `file` (default `file`).
+        #[serde(default)]
+        pub normals: Option<NormalsDesc>,
+        /// Material of every face; without it, an OBJ's own materials are used,
+        /// else the group's material.
+        #[serde(default)]
+        pub material: Option<String>,
+    }
+}
+
+/// An `[[instance]]`: a prototype placed with its own transform.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InstanceDesc {
+    /// Optional name for messages.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// The prototype, a name under `[prototypes]`.
+    pub prototype: String,
+    /// Replaces the material of every member, when given.
+    #[serde(default)]
+    pub material: Option<String>,
+    /// Applied after the prototype's own transform.
+    #[serde(default)]
+    pub transform: Vec<TransformOp>,
+}

@@ -1,0 +1,81 @@
+//! How a scene is rendered: [`RenderSettings`].
+
+use crate::film::{Filter, ToneMap};
+use crate::sampling::SamplerKind;
+
+/// How an image is sampled, which light transport computes it, and how it
+/// is displayed: everything about a render that is not the scene itself.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Most bounces: mirror reflections for Whitted, path vertices for the
+    /// path tracer.
+    pub max_depth: u32,
+    /// How radiance above 1 is mapped for 8-bit output.
+    pub tone_map: ToneMap,
+    /// Whether 8-bit output is sRGB-encoded (otherwise linear).
+    pub srgb: bool,
+    /// Seed of all random sampling decisions.
+    pub seed: u64,
+    /// Which light transport algorithm renders the scene.
+    pub integrator: IntegratorKind,
+    /// The sample sequence.
+    pub sampler: SamplerKind,
+    /// Pixel reconstruction filter.
+    pub filter: Filter,
+}
+
+/// The light transport algorithms.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum IntegratorKind {
+    /// Classic ray tracing ([`crate::integrator::WhittedIntegrator`]).
+    #[default]
+    Whitted,
+    /// Path tracing ([`crate::integrator::PathIntegrator`]).
+    Path,
+}
+
+impl IntegratorKind {
+    /// The depth a render uses when none is given: 5 mirror bounces for
+    /// Whitted, 64 path vertices for the path tracer.
+    pub fn default_max_depth(self) -> u32 {
+        match self {
+            IntegratorKind::Whitted => 5,
+            IntegratorKind::Path => 64,
+        }
+    }
+
+    /// The sampler a render uses when none is given: the classic jittered
+    /// grid for Whitted, Sobol points for the path tracer.
+    pub fn default_sampler(self) -> SamplerKind {
+        match self {
+            IntegratorKind::Whitted => SamplerKind::Stratified,
+            IntegratorKind::Path => SamplerKind::Sobol,
+        }
+    }
+}
+
+impl RenderSettings {
+    /// The defaults of `integrator`: 16 samples per pixel, its own depth
+    /// and sampler, a box filter, classic tone mapping, sRGB output, seed 0.
+    pub fn for_integrator(integrator: IntegratorKind) -> Self {
+        Self {
+            spp: 16,
+            max_depth: integrator.default_max_depth(),
+            tone_map: ToneMap::Classic,
+            srgb: true,
+            seed: 0,
+            integrator,
+            sampler: integrator.default_sampler(),
+            filter: Filter::default(),
+        }
+    }
+}
+
+impl Default for RenderSettings {
+    /// [`RenderSettings::for_integrator`] of the Whitted integrator.
+    fn default() -> Self {
+        Self::for_integrator(IntegratorKind::Whitted)
+    }
+}

@@ -1,0 +1,538 @@
+//! [`SceneBuilder`]: the one way to make a [`Scene`].
+
+use super::{finite_bounds, Scene, SceneError};
+use crate::camera::Camera;
+use crate::color::Color;
+use crate::geometry::Transform;
+use crate::light::{AreaLight, AreaShape, Emitter, Environment, Light, LightSet};
+use crate::material::{ConductorFresnel, Material, MaterialId};
+use crate::primitive::{merge_loose_triangles, BvhAggregate, Primitive};
+use crate::shapes::{Mesh, Shape};
+use crate::texture::Texture;
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// Checks that a prototype named in an instance (placed within the
+/// prototype given, if any) exists.
+type PrototypeCheck<'a> = dyn Fn(&str, Option<&str>) -> Result<(), SceneError> + 'a;
+
+/// Light emitted by a surface: it becomes a diffuse area light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Emission {
+    /// Emitted radiance, linear RGB.
+    pub radiance: Color,
+    /// Whether both sides emit (otherwise only the front: a triangle's
+    /// normal side, a sphere's outside).
+    pub two_sided: bool,
+}
+
+/// Why a primitive cannot be an area light.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum EmissionError {
+    /// A plane has infinite area.
+    #[error("an infinite plane cannot emit light (use a quad or a large triangle)")]
+    Plane,
+    /// Only spheres that stay spheres can be sampled as lights.
+    #[error(
+        "an emissive sphere must stay a sphere: its transform may translate, rotate and scale uniformly, but not stretch it into an ellipsoid"
+    )]
+    Ellipsoid,
+    /// Negative or non-finite radiance.
+    #[error("emitted radiance must be finite and ≥ 0 in every channel")]
+    Radiance,
+    /// More than 2³² light triangles.
+    #[error("too many emissive triangles (at most 4294967295)")]
+    TooMany,
+}
+
+/// Something placed in a prototype: a primitive (perhaps emissive), or an
+/// instance of another prototype.
+#[derive(Clone, Debug)]
+enum Member {
+    Primitive(Primitive, Option<Emission>),
+    Instance(Instance),
+}
+
+/// A placement of a prototype.
+#[derive(Clone, Debug)]
+struct Instance {
+    prototype: String,
+    transform: Transform,
+    /// Replaces the material of every member, when given.
+    material: Option<MaterialId>,
+}
+
+/// Builds a [`Scene`]: cameras, materials, lights, shapes and meshes, and
+/// prototypes placed any number of times by instances.
+///
+/// Each method validates what it is given and returns the same
+/// [`SceneError`] that the scene-file loader reports (the loader adds the
+/// file position); [`SceneBuilder::build`] checks the whole (prototypes
+/// that place themselves, an unfinished prototype) and builds the BVH and
+/// the light distribution, using the current rayon pool.
+///
+/// Between [`SceneBuilder::begin_prototype`] and
+/// [`SceneBuilder::end_prototype`], shapes and instances are added to the
+/// prototype instead of the scene (as pbrt-v4's `ObjectBegin`/`ObjectEnd`).
+///
+/// ```
+/// use lucent::prelude::*;
+///
+/// let camera = Camera::new(Vec3::new(0.0, 2.0, -8.0), Vec3::ZERO, Vec3::Y, 50.0, 64, 48)?;
+/// let mut b = SceneBuilder::new(camera);
+/// let white = b.add_material(Material::matte(Color::splat(0.8), 1.0)?)?;
+/// let red = b.add_material(Material::matte(Color::new(0.8, 0.1, 0.1), 1.0)?)?;
+/// // A prototype: two spheres, placed three times.
+/// b.begin_prototype("pair")?;
+/// b.add_shape(Sphere::new(Vec3::new(-0.6, 0.0, 0.0), 0.5)?, Transform::IDENTITY, white)?;
+/// b.add_shape(Sphere::new(Vec3::new(0.6, 0.0, 0.0), 0.5)?, Transform::IDENTITY, white)?;
+/// b.end_prototype()?;
+/// for (i, x) in [-3.0, 0.0, 3.0].into_iter().enumerate() {
+///     let material = (i == 1).then_some(red); // the middle pair is red
+///     b.add_instance("pair", Transform::translate(Vec3::new(x, 0.0, 0.0)), material)?;
+/// }
+/// b.add_light(Light::directional(Vec3::new(0.0, -1.0, 1.0), Color::ONE, 1.0)?);
+/// let scene = b.build()?;
+/// assert_eq!(scene.primitives().len(), 6);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct SceneBuilder {
+    camera: Camera,
+    ambient: Color,
+    background: Color,
+    environment: Option<Environment>,
+    lights: Vec<Light>,
+    area_lights: Vec<AreaLight>,
+    materials: Vec<Material>,
+    primitives: Vec<Primitive>,
+    prototypes: BTreeMap<String, Vec<Member>>,
+    /// The prototype being defined, if any.
+    open: Option<(String, Vec<Member>)>,
+    /// Instances placed in the scene, expanded by `build`.
+    instances: Vec<Instance>,
+    warnings: Vec<String>,
+}
+
+impl SceneBuilder {
+    /// An empty scene seen by `camera`: no ambient light, a black
+    /// background.
+    pub fn new(camera: Camera) -> Self {
+        Self {
+            camera,
+            ambient: Color::ZERO,
+            background: Color::ZERO,
+            environment: None,
+            lights: Vec::new(),
+            area_lights: Vec::new(),
+            materials: Vec::new(),
+            primitives: Vec::new(),
+            prototypes: BTreeMap::new(),
+            open: None,
+            instances: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
+    /// Replace the camera.
+    pub fn set_camera(&mut self, camera: Camera) -> &mut Self {
+        self.camera = camera;
+        self
+    }
+
+    /// Set the ambient light of the classic renderer (default black).
+    pub fn set_ambient(&mut self, ambient: Color) -> Result<&mut Self, SceneError> {
+        self.ambient = check_color("ambient light", ambient)?;
+        Ok(self)
+    }
+
+    /// Set the radiance of rays that leave the scene when there is no
+    /// environment (default black).
+    pub fn set_background(&mut self, background: Color) -> Result<&mut Self, SceneError> {
+        self.background = check_color("background", background)?;
+        Ok(self)
+    }
+
+    /// Set the environment light (path integrator).
+    pub fn set_environment(&mut self, environment: Environment) -> Result<&mut Self, SceneError> {
+        if let Environment::Constant(c) = environment {
+            check_color("environment", c)?;
+        }
+        self.environment = Some(environment);
+        Ok(self)
+    }
+
+    /// Add a material; returns its handle. Materials of the path tracer are
+    /// checked for energy conservation: albedos at most 1, roughness from 0
+    /// to 1.
+    pub fn add_material(&mut self, material: Material) -> Result<MaterialId, SceneError> {
+        check_material(&material).map_err(|m| SceneError::new(None, m))?;
+        if self.materials.len() >= u32::MAX as usize {
+            return Err(SceneError::new(None, "too many materials (at most 4294967295)"));
+        }
+        self.materials.push(material);
+        Ok(MaterialId::new(self.materials.len() - 1))
+    }
+
+    /// The materials added so far.
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
+    /// Add a point, spot or directional light.
+    pub fn add_light(&mut self, light: Light) -> &mut Self {
+        self.lights.push(light);
+        self
+    }
+
+    /// Record a non-fatal problem (such as skipped degenerate triangles)
+    /// for the user; the built scene lists them in [`Scene::warnings`].
+    pub fn warn(&mut self, warning: impl Into<String>) -> &mut Self {
+        self.warnings.push(warning.into());
+        self
+    }
+
+    /// Place `shape` with `transform` (object to world) and `material`.
+    pub fn add_shape(
+        &mut self,
+        shape: impl Into<Shape>,
+        transform: Transform,
+        material: MaterialId,
+    ) -> Result<&mut Self, SceneError> {
+        self.add(Primitive::new(shape, transform, material), None)
+    }
+
+    /// Place a mesh (shared, not copied, however often it is placed). With
+    /// `face_materials`, face `i` takes `face_materials[m]` where `m` is its
+    /// material index in the mesh, and `material` is the fallback for faces
+    /// without one (see [`Primitive::with_face_materials`]).
+    pub fn add_mesh(
+        &mut self,
+        mesh: Arc<Mesh>,
+        transform: Transform,
+        material: MaterialId,
+        face_materials: Option<Arc<[MaterialId]>>,
+        emission: Option<Emission>,
+    ) -> Result<&mut Self, SceneError> {
+        let mut primitive = Primitive::new(Shape::Mesh(mesh), transform, material);
+        if let Some(table) = face_materials {
+            primitive = primitive.with_face_materials(table);
+        }
+        self.add(primitive, emission)
+    }
+
+    /// Place a primitive whose surface emits (a diffuse area light): every
+    /// triangle of a mesh becomes its own light. Planes cannot emit (they
+    /// have no finite area), nor can spheres stretched into ellipsoids.
+    pub fn add_emissive(
+        &mut self,
+        shape: impl Into<Shape>,
+        transform: Transform,
+        material: MaterialId,
+        emission: Emission,
+    ) -> Result<&mut Self, SceneError> {
+        self.add(Primitive::new(shape, transform, material), Some(emission))
+    }
+
+    /// Place a primitive, emissive with `emission`: in the prototype being
+    /// defined, if there is one, else in the scene.
+    pub fn add(&mut self, primitive: Primitive, emission: Option<Emission>) -> Result<&mut Self, SceneError> {
+        self.check_material_ids(&primitive)?;
+        if let Some(e) = emission {
+            // Check now, so that an error names the object, not an instance.
+            area_shapes(&primitive, e).map_err(|e| SceneError::new(None, e.to_string()))?;
+        }
+        match &mut self.open {
+            Some((_, members)) => members.push(Member::Primitive(primitive, emission)),
+            None => self.place(primitive, emission)?,
+        }
+        Ok(self)
+    }
+
+    /// Start defining the prototype `name`: until
+    /// [`SceneBuilder::end_prototype`], what is added goes into it.
+    /// Prototypes do not nest, but may contain instances of others.
+    pub fn begin_prototype(&mut self, name: &str) -> Result<&mut Self, SceneError> {
+        if let Some((open, _)) = &self.open {
+            return Err(SceneError::new(
+                None,
+                format!("prototype \"{name}\" begins inside prototype \"{open}\" (prototypes do not nest)"),
+            ));
+        }
+        if self.prototypes.contains_key(name) {
+            return Err(SceneError::new(None, format!("prototype \"{name}\" is defined twice")));
+        }
+        self.open = Some((name.to_owned(), Vec::new()));
+        Ok(self)
+    }
+
+    /// Finish the prototype begun last.
+    pub fn end_prototype(&mut self) -> Result<&mut Self, SceneError> {
+        let (name, members) =
+            self.open.take().ok_or_else(|| SceneError::new(None, "end of a prototype that was not begun"))?;
+        self.prototypes.insert(name, members);
+        Ok(self)
+    }
+
+    /// Place prototype `name` with `transform` (applied after the
+    /// prototype's own transforms), in the prototype being defined if there
+    /// is one, else in the scene. With `material`, every member takes that
+    /// material instead of its own. The prototype may be defined later;
+    /// [`SceneBuilder::build`] checks that it exists.
+    pub fn add_instance(
+        &mut self,
+        name: &str,
+        transform: Transform,
+        material: Option<MaterialId>,
+    ) -> Result<&mut Self, SceneError> {
+        if let Some(m) = material {
+            self.check_material_id(m)?;
+        }
+        let instance = Instance { prototype: name.to_owned(), transform, material };
+        match &mut self.open {
+            Some((_, members)) => members.push(Member::Instance(instance)),
+            None => self.instances.push(instance),
+        }
+        Ok(self)
+    }
+
+    /// The names of the prototypes defined so far.
+    pub fn prototype_names(&self) -> impl Iterator<Item = &str> {
+        self.prototypes.keys().map(String::as_str)
+    }
+
+    /// Check the whole scene and build it: expand the instances, then build
+    /// the BVH (over loose triangles merged into meshes) and the light
+    /// distribution.
+    ///
+    /// Fails when a prototype is still open, when an instance names a
+    /// prototype that does not exist, or when a prototype places itself,
+    /// directly or through others (whether or not anything places it).
+    pub fn build(mut self) -> Result<Scene, SceneError> {
+        if let Some((name, _)) = &self.open {
+            return Err(SceneError::new(None, format!("prototype \"{name}\" is never ended")));
+        }
+        self.check_prototypes()?;
+        for instance in std::mem::take(&mut self.instances) {
+            self.expand(&instance, Transform::IDENTITY, None)?;
+        }
+
+        let merged = merge_loose_triangles(&self.primitives);
+        let aggregate = BvhAggregate::new(&merged);
+        let bounds = finite_bounds(&self.primitives);
+        let mut emitters: Vec<Emitter> = self.area_lights.iter().map(|&a| Emitter::Area(a)).collect();
+        emitters.extend(self.lights.iter().cloned().map(Emitter::Delta));
+        match &self.environment {
+            Some(env) => emitters.push(Emitter::Environment(env.clone())),
+            None if self.background.max_element() > 0.0 => {
+                emitters.push(Emitter::Environment(Environment::Constant(self.background)))
+            }
+            None => {}
+        }
+        let light_set = LightSet::new(emitters, &bounds);
+        Ok(Scene {
+            camera: self.camera,
+            ambient: self.ambient,
+            background: self.background,
+            lights: self.lights,
+            area_lights: self.area_lights,
+            environment: self.environment,
+            materials: self.materials,
+            primitives: self.primitives,
+            aggregate,
+            light_set,
+            warnings: self.warnings,
+        })
+    }
+
+    fn check_material_id(&self, id: MaterialId) -> Result<(), SceneError> {
+        if id.index() < self.materials.len() {
+            Ok(())
+        } else {
+            Err(SceneError::new(None, "a material handle from another scene"))
+        }
+    }
+
+    fn check_material_ids(&self, primitive: &Primitive) -> Result<(), SceneError> {
+        self.check_material_id(primitive.material())?;
+        if let Some(table) = primitive.face_materials() {
+            table.iter().try_for_each(|&m| self.check_material_id(m))?;
+        }
+        Ok(())
+    }
+
+    /// Put a primitive in the scene, with its area lights.
+    fn place(&mut self, primitive: Primitive, emission: Option<Emission>) -> Result<(), SceneError> {
+        let Some(e) = emission else {
+            self.primitives.push(primitive);
+            return Ok(());
+        };
+        let error = |e: EmissionError| SceneError::new(None, e.to_string());
+        let shapes = area_shapes(&primitive, e).map_err(error)?;
+        let first = u32::try_from(self.area_lights.len()).map_err(|_| error(EmissionError::TooMany))?;
+        u32::try_from(self.area_lights.len() + shapes.len()).map_err(|_| error(EmissionError::TooMany))?;
+        self.area_lights.extend(shapes.into_iter().map(|shape| AreaLight {
+            shape,
+            radiance: e.radiance,
+            two_sided: e.two_sided,
+        }));
+        self.primitives.push(primitive.with_area_light(first));
+        Ok(())
+    }
+
+    /// Every prototype an instance names exists, and none places itself.
+    fn check_prototypes(&self) -> Result<(), SceneError> {
+        let exists = |name: &str, within: Option<&str>| {
+            if self.prototypes.contains_key(name) {
+                return Ok(());
+            }
+            let known: Vec<&str> = self.prototype_names().collect();
+            let known = if known.is_empty() { "none".to_owned() } else { known.join(", ") };
+            let place = within.map_or_else(String::new, |w| format!(" (placed in prototype \"{w}\")"));
+            Err(SceneError::new(None, format!("prototype \"{name}\" is not defined{place} (defined: {known})")))
+        };
+        for instance in &self.instances {
+            exists(&instance.prototype, None)?;
+        }
+        // Depth-first search from every prototype; `path` is the chain of
+        // prototypes being expanded.
+        fn visit<'a>(
+            builder: &'a SceneBuilder,
+            name: &'a str,
+            path: &mut Vec<&'a str>,
+            done: &mut Vec<&'a str>,
+            exists: &PrototypeCheck,
+        ) -> Result<(), SceneError> {
+            if let Some(start) = path.iter().position(|&p| p == name) {
+                let mut cycle: Vec<String> = path[start..].iter().map(|p| format!("\"{p}\"")).collect();
+                cycle.push(format!("\"{name}\""));
+                return Err(SceneError::new(
+                    None,
+                    format!("prototype \"{name}\" contains itself ({})", cycle.join(" > ")),
+                ));
+            }
+            if done.contains(&name) {
+                return Ok(());
+            }
+            path.push(name);
+            for member in &builder.prototypes[name] {
+                if let Member::Instance(inner) = member {
+                    exists(&inner.prototype, Some(name))?;
+                    visit(builder, &inner.prototype, path, done, exists)?;
+                }
+            }
+            path.pop();
+            done.push(name);
+            Ok(())
+        }
+        let mut done = Vec::new();
+        for name in self.prototypes.keys() {
+            visit(self, name, &mut Vec::new(), &mut done, &exists)?;
+        }
+        Ok(())
+    }
+
+    /// Place the members of an instance (prototypes checked, so this ends).
+    fn expand(&mut self, instance: &Instance, parent: Transform, forced: Option<MaterialId>) -> Result<(), SceneError> {
+        let transform = instance.transform.then(&parent);
+        let forced = forced.or(instance.material);
+        let members = self.prototypes[&instance.prototype].clone();
+        for member in &members {
+            match member {
+                Member::Primitive(p, emission) => {
+                    let t = p.transform().then(&transform);
+                    let placed = match forced {
+                        Some(m) => Primitive::new(p.shape().clone(), t, m),
+                        None => p.with_transform(t),
+                    };
+                    self.place(placed, *emission)?;
+                }
+                Member::Instance(inner) => self.expand(inner, transform, forced)?,
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The uniform scale factor of a transform that is a similarity (rotation,
+/// uniform scale, translation), or `None`.
+fn uniform_scale(t: &Transform) -> Option<f32> {
+    let m = t.matrix();
+    let cols = [m.x_axis.truncate(), m.y_axis.truncate(), m.z_axis.truncate()];
+    let s = cols[0].length();
+    let tol = 1e-4 * s;
+    let similar = cols.iter().all(|c| (c.length() - s).abs() <= tol)
+        && cols[0].dot(cols[1]).abs() <= tol * s
+        && cols[0].dot(cols[2]).abs() <= tol * s
+        && cols[1].dot(cols[2]).abs() <= tol * s;
+    similar.then_some(s)
+}
+
+/// The world-space light shapes of an emissive primitive: one sphere, or one
+/// triangle per face.
+fn area_shapes(primitive: &Primitive, emission: Emission) -> Result<Vec<AreaShape>, EmissionError> {
+    if !(emission.radiance.is_finite() && emission.radiance.min_element() >= 0.0) {
+        return Err(EmissionError::Radiance);
+    }
+    let t = primitive.transform();
+    Ok(match primitive.shape() {
+        Shape::Plane(_) => return Err(EmissionError::Plane),
+        Shape::Sphere(s) => {
+            let scale = uniform_scale(&t).ok_or(EmissionError::Ellipsoid)?;
+            vec![AreaShape::Sphere { center: t.point(s.center()), radius: s.radius() * scale }]
+        }
+        Shape::Triangle(tri) => vec![AreaShape::Triangle(tri.vertices().map(|p| t.point(p)))],
+        Shape::Mesh(mesh) => {
+            let mut shapes = Vec::new();
+            shapes.try_reserve_exact(mesh.triangle_count()).map_err(|_| EmissionError::TooMany)?;
+            shapes
+                .extend((0..mesh.triangle_count()).map(|i| AreaShape::Triangle(mesh.triangle(i).map(|p| t.point(p)))));
+            shapes
+        }
+    })
+}
+
+/// A colour that must be finite and non-negative.
+fn check_color(what: &str, c: Color) -> Result<Color, SceneError> {
+    if c.is_finite() && c.min_element() >= 0.0 {
+        Ok(c)
+    } else {
+        Err(SceneError::new(
+            None,
+            format!("{what} must be finite and ≥ 0 in every channel, got [{}, {}, {}]", c.x, c.y, c.z),
+        ))
+    }
+}
+
+/// The path tracer's materials must conserve energy: albedos at most 1 and
+/// GGX roughness from 0 to 1.
+fn check_material(m: &Material) -> Result<(), String> {
+    let (albedo, roughness) = match m {
+        Material::Classic(_) => (None, None),
+        Material::Diffuse { reflectance } => (Some(reflectance), None),
+        Material::Conductor { fresnel, roughness } => match fresnel {
+            ConductorFresnel::Reflectance(t) => (Some(t), Some(*roughness)),
+            ConductorFresnel::Complex { .. } => (None, Some(*roughness)),
+        },
+        Material::Dielectric { roughness, .. } => (None, Some(*roughness)),
+        Material::Plastic { reflectance, roughness, .. } => (Some(reflectance), Some(*roughness)),
+    };
+    if let Some(t) = albedo {
+        let colors = match t {
+            Texture::Constant(c) => vec![*c],
+            Texture::Checker { even, odd, .. } => vec![*even, *odd],
+        };
+        if let Some(c) = colors.iter().find(|c| c.max_element() > 1.0) {
+            return Err(format!(
+                "albedo must be at most 1 in every channel (a surface cannot reflect more light than it receives), got [{}, {}, {}]",
+                c.x, c.y, c.z
+            ));
+        }
+    }
+    if let Some(r) = roughness {
+        if !(0.0..=1.0).contains(&r) {
+            return Err(format!("roughness must be from 0 (smooth) to 1, got {r}"));
+        }
+    }
+    Ok(())
+}
