@@ -261,7 +261,7 @@ impl PhongBsdf {
     pub fn f(&self, wo: Vec3, wi: Vec3, n: Vec3) -> Color {
         let mut f = self.diffuse;
         if self.ks > 0.0 {
-            let r = reflect(-wi, n);
+            let r = reflect(wi, n);
             let cos_r = r.dot(wo);
             if cos_r > 0.0 {
                 f += Color::splat(self.ks * cos_r.powf(self.exponent));

@@ -5,7 +5,7 @@ use super::fresnel::{fr_conductor, fr_schlick};
 use super::microfacet::TrowbridgeReitz;
 use super::{flip_z, same_hemisphere, BsdfSample};
 use crate::color::Color;
-use crate::geometry::{Vec2, Vec3};
+use crate::geometry::{reflect, Vec2, Vec3};
 
 /// How a conductor's Fresnel reflectance is computed.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -96,7 +96,7 @@ impl ConductorBxdf {
             return Some(BsdfSample { f, wi: unflip(wi), pdf: 1.0, specular: true, transmission: false, eta: 1.0 });
         }
         let wm = self.distrib.sample_wm(wo_up, u);
-        let wi = super::reflect(wo_up, wm);
+        let wi = reflect(wo_up, wm);
         if wi.z <= 0.0 {
             return None;
         }

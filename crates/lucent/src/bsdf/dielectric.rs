@@ -5,9 +5,9 @@
 
 use super::fresnel::fr_dielectric;
 use super::microfacet::TrowbridgeReitz;
-use super::{reflect, refract, same_hemisphere, BsdfSample};
+use super::{same_hemisphere, BsdfSample};
 use crate::color::Color;
-use crate::geometry::{Vec2, Vec3};
+use crate::geometry::{reflect, refract, Vec2, Vec3};
 
 /// An interface between two dielectrics. `eta` is the relative index of
 /// refraction, inside (the side opposite the normal) over outside; a `wo`

@@ -215,37 +215,6 @@ pub(crate) fn two_sided<T: Default>(wo: Vec3, wi: Vec3, f_upper: impl Fn(Vec3, V
     }
 }
 
-/// Mirror `wo` about the unit normal `n`: `−wo + 2 (wo·n) n`.
-#[inline]
-pub(crate) fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
-    -wo + 2.0 * wo.dot(n) * n
-}
-
-/// Refract `wo` through the interface with unit normal `n` and relative
-/// index `eta` (far side over `n`'s side), by Snell's law in vector form
-/// (PBRT 4th ed., eq. 9.13):
-/// `wt = −wo/η + (cos θi/η − cos θt) n`. A `wo` on the far side of `n`
-/// flips `n` and uses `1/η`. Returns the direction and the index `η'` that
-/// applied (far side over `wo`'s side), or `None` on total internal
-/// reflection.
-#[inline]
-pub(crate) fn refract(wo: Vec3, n: Vec3, eta: f32) -> Option<(Vec3, f32)> {
-    let mut cos_i = n.dot(wo);
-    let (mut eta, mut n) = (eta, n);
-    if cos_i < 0.0 {
-        eta = 1.0 / eta;
-        cos_i = -cos_i;
-        n = -n;
-    }
-    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
-    let sin2_t = sin2_i / (eta * eta);
-    if sin2_t >= 1.0 {
-        return None;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    Some((-wo / eta + (cos_i / eta - cos_t) * n, eta))
-}
-
 /// A [`Bxdf`] placed on a surface: the shading frame and the geometric
 /// normal. Directions are world space.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -31,9 +31,9 @@
 
 use super::fresnel::{fr_dielectric, fr_dielectric_hemispherical};
 use super::microfacet::TrowbridgeReitz;
-use super::{flip_z, reflect, two_sided, BsdfSample};
+use super::{flip_z, two_sided, BsdfSample};
 use crate::color::Color;
-use crate::geometry::{Vec2, Vec3};
+use crate::geometry::{reflect, Vec2, Vec3};
 use crate::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
 use rayon::prelude::*;
 use std::f32::consts::PI;
