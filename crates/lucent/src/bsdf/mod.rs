@@ -33,7 +33,6 @@
 mod conductor;
 mod dielectric;
 mod diffuse;
-mod frame;
 pub mod fresnel;
 pub mod microfacet;
 mod phong;
@@ -44,13 +43,12 @@ mod tests;
 pub use conductor::{ConductorBxdf, ConductorFresnel};
 pub use dielectric::DielectricBxdf;
 pub use diffuse::DiffuseBxdf;
-pub use frame::Frame;
 pub use microfacet::TrowbridgeReitz;
 pub use phong::PhongBxdf;
 pub use plastic::PlasticBxdf;
 
 use crate::color::Color;
-use crate::geometry::{Vec2, Vec3};
+use crate::geometry::{Frame, Vec2, Vec3};
 
 /// A direction sampled from a BSDF.
 #[derive(Clone, Copy, Debug, PartialEq)]

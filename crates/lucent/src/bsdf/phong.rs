@@ -21,9 +21,9 @@
 //! the side of `wo`, so it is exactly the density of the returned samples.
 //! Reflection only, two-sided.
 
-use super::{flip_z, two_sided, BsdfSample, Frame};
+use super::{flip_z, two_sided, BsdfSample};
 use crate::color::Color;
-use crate::geometry::{Vec2, Vec3};
+use crate::geometry::{Frame, Vec2, Vec3};
 use crate::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
 use std::f32::consts::{FRAC_1_PI, PI};
 

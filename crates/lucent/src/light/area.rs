@@ -11,7 +11,7 @@
 
 use super::emitter::{LiSample, LightSampleContext};
 use crate::color::{luminance, Color};
-use crate::geometry::{coordinate_system, Vec2, Vec3};
+use crate::geometry::{coordinate_system, gram_schmidt, Vec2, Vec3};
 use std::f32::consts::PI;
 
 /// Triangles subtending less than this solid angle (sr) are sampled by
@@ -328,12 +328,6 @@ fn solid_angle_of_directions([a, b, c]: [Vec3; 3]) -> f32 {
     (2.0 * num.atan2(den)).max(0.0)
 }
 
-/// `v` made orthogonal to unit `w` and normalised (Gram–Schmidt).
-#[inline]
-fn orthonormal_to(v: Vec3, w: Vec3) -> Vec3 {
-    (v - v.dot(w) * w).normalize_or_zero()
-}
-
 /// A direction uniformly distributed over the spherical triangle with
 /// corners at the unit vectors `a`, `b`, `c` and area (solid angle) `area`,
 /// by Arvo's method (SIGGRAPH 1995):
@@ -370,9 +364,9 @@ fn sample_spherical_triangle([a, b, c]: [Vec3; 3], area: f32, u: Vec2) -> Option
     let vv = s + sin_alpha * a.dot(b);
     let den = (vv * s + uu * t) * sin_alpha;
     let q = if den != 0.0 { (((vv * t - uu * s) * cos_alpha - vv) / den).clamp(-1.0, 1.0) } else { 1.0 };
-    let c_hat = q * a + (1.0 - q * q).max(0.0).sqrt() * orthonormal_to(c, a);
+    let c_hat = q * a + (1.0 - q * q).max(0.0).sqrt() * gram_schmidt(c, a);
     let z = 1.0 - u.y * (1.0 - c_hat.dot(b));
-    let w = z * b + (1.0 - z * z).max(0.0).sqrt() * orthonormal_to(c_hat, b);
+    let w = z * b + (1.0 - z * z).max(0.0).sqrt() * gram_schmidt(c_hat, b);
     let w = w.normalize_or_zero();
     (w != Vec3::ZERO).then_some(w)
 }
