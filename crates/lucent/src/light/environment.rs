@@ -36,12 +36,11 @@
 //! `dω = sin θ dθ dφ = 2π² sin θ du dv`, the solid-angle density is
 //! `p(ω) = p(u, v) / (2π² sin θ)`.
 
-use super::area::uniform_sphere;
 use super::emitter::{LiSample, LightSampleContext};
 use crate::color::{luminance, Color};
 use crate::film::check_image_size;
 use crate::geometry::{Vec2, Vec3};
-use crate::sampling::PiecewiseConstant2D;
+use crate::sampling::{uniform_sphere, PiecewiseConstant2D};
 use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
