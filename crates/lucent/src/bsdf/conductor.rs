@@ -8,19 +8,27 @@ use crate::color::Color;
 use crate::geometry::{reflect, Vec2, Vec3};
 
 /// How a conductor's Fresnel reflectance is computed.
+///
+/// `R` is the type of the reflectance at normal incidence of the Schlick
+/// form: a [`Color`] (the default) in a [`ConductorBxdf`], which holds the
+/// values at one point, and a `Texture` in a material's `Conductor`, which
+/// describes a whole surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ConductorFresnel {
-    /// Exact Fresnel equations with complex index `eta + i·k` per channel.
+pub enum ConductorFresnel<R = Color> {
+    /// Exact Fresnel equations with complex index `eta + i·k` per RGB
+    /// channel (e.g. gold: eta (0.143, 0.374, 1.442), k (3.983, 2.385,
+    /// 1.603)).
     Complex {
         /// Real part of the index of refraction.
         eta: Color,
         /// Absorption coefficient (imaginary part).
         k: Color,
     },
-    /// Schlick's approximation from the reflectance at normal incidence.
+    /// Schlick's approximation from the reflectance (colour) at normal
+    /// incidence, towards white at grazing angles.
     Schlick {
         /// Reflectance at normal incidence.
-        r0: Color,
+        r0: R,
     },
 }
 

@@ -3,13 +3,13 @@
 use super::description::*;
 use super::error::{SceneError, SourceLocation};
 use super::{MaterialId, Primitive, Scene};
+use crate::bsdf::ConductorFresnel;
 use crate::camera::{Camera, CameraError, ThinLens};
 use crate::color::Color;
 use crate::film::{check_image_size, Filter, ToneMap};
 use crate::geometry::{Mat4, Transform, Vec3};
 use crate::light::Environment;
 use crate::light::{Falloff, Light};
-use crate::material::ConductorFresnel;
 use crate::material::Material;
 use crate::render::{IntegratorKind, RenderSettings};
 use crate::sampling::SamplerKind;
@@ -292,13 +292,15 @@ impl SceneFile {
             }
             MaterialDesc::Conductor(c) => {
                 let fresnel = match (c.color, c.eta, c.k, c.metal) {
-                    (Some(color), None, None, None) => ConductorFresnel::Reflectance(Texture::Constant(color.into())),
+                    (Some(color), None, None, None) => {
+                        ConductorFresnel::Schlick { r0: Texture::Constant(color.into()) }
+                    }
                     (None, Some(eta), Some(k), None) => ConductorFresnel::Complex { eta: eta.into(), k: k.into() },
                     (None, None, None, Some(metal)) => {
                         let (eta, k) = metal_ior(metal);
                         ConductorFresnel::Complex { eta, k }
                     }
-                    (None, None, None, None) => ConductorFresnel::Reflectance(Texture::Constant(Color::ONE)),
+                    (None, None, None, None) => ConductorFresnel::Schlick { r0: Texture::Constant(Color::ONE) },
                     _ => {
                         return Err(self.error(
                             at(),
@@ -306,7 +308,7 @@ impl SceneFile {
                         ))
                     }
                 };
-                if let ConductorFresnel::Reflectance(t) = &fresnel {
+                if let ConductorFresnel::Schlick { r0: t } = &fresnel {
                     check_albedo(t).map_err(|e| self.error(at(), format!("material \"{name}\": {e}")))?;
                 }
                 let roughness = self.roughness(name, c.roughness)?;
