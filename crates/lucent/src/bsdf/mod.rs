@@ -7,6 +7,10 @@
 //! surface. A [`Bsdf`] wraps a `Bxdf` with the frame, and takes and returns
 //! world-space directions.
 //!
+//! Every BxDF implements the [`BxDF`] trait (`f`, `sample_f`, `pdf`,
+//! `is_specular`, all with the same signatures), and the enum [`Bxdf`]
+//! dispatches to them.
+//!
 //! Conventions every BxDF follows:
 //! * `f(wo, wi)` is the BSDF value, *without* the cosine factor.
 //! * `pdf(wo, wi)` is the solid-angle density with which `sample_f(wo, ..)`
@@ -73,7 +77,29 @@ pub struct BsdfSample {
     pub eta: f32,
 }
 
-/// A scattering function in the local shading frame.
+/// The interface of every scattering function, in the local shading frame
+/// (PBRT 4th ed., §9.1.2, `BxDF`). See the module documentation for the
+/// conventions.
+pub trait BxDF {
+    /// BSDF value for light arriving from `wi`, leaving towards `wo`
+    /// (without the cosine factor; 0 for delta lobes).
+    fn f(&self, wo: Vec3, wi: Vec3) -> Color;
+
+    /// Sample an incident direction for `wo`, from a 1D sample `uc` (used to
+    /// pick a lobe; BxDFs with one lobe ignore it) and a 2D sample `u`.
+    /// `None` when no direction is produced.
+    fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample>;
+
+    /// Solid-angle pdf with which [`BxDF::sample_f`] produces `wi` given
+    /// `wo` (0 for directions that only a delta lobe reaches).
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32;
+
+    /// Whether every lobe is a delta: light sampling cannot help.
+    fn is_specular(&self) -> bool;
+}
+
+/// A scattering function in the local shading frame: one of the BxDFs of
+/// this module, dispatched through [`BxDF`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Bxdf {
     /// Black: absorbs everything (e.g. an emitter's surface).
@@ -135,9 +161,11 @@ impl Bxdf {
     pub fn phong(diffuse: Color, ks: f32, exponent: f32, kr: f32) -> Self {
         Self::Phong(PhongBxdf::new(diffuse, ks, exponent, kr))
     }
+}
 
+impl BxDF for Bxdf {
     /// BSDF value for light arriving from `wi`, leaving towards `wo`.
-    pub fn f(&self, wo: Vec3, wi: Vec3) -> Color {
+    fn f(&self, wo: Vec3, wi: Vec3) -> Color {
         match self {
             Self::Black => Color::ZERO,
             Self::Diffuse(b) => b.f(wo, wi),
@@ -150,11 +178,11 @@ impl Bxdf {
 
     /// Sample an incident direction for `wo`, from a 1D sample `uc` (used to
     /// pick a lobe) and a 2D sample `u`.
-    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
+    fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
         match self {
             Self::Black => None,
-            Self::Diffuse(b) => b.sample_f(wo, u),
-            Self::Conductor(b) => b.sample_f(wo, u),
+            Self::Diffuse(b) => b.sample_f(wo, uc, u),
+            Self::Conductor(b) => b.sample_f(wo, uc, u),
             Self::Dielectric(b) => b.sample_f(wo, uc, u),
             Self::Plastic(b) => b.sample_f(wo, uc, u),
             Self::Phong(b) => b.sample_f(wo, uc, u),
@@ -162,7 +190,7 @@ impl Bxdf {
     }
 
     /// Solid-angle pdf of sampling `wi` given `wo`.
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         match self {
             Self::Black => 0.0,
             Self::Diffuse(b) => b.pdf(wo, wi),
@@ -174,11 +202,13 @@ impl Bxdf {
     }
 
     /// Whether every lobe is a delta: light sampling cannot help.
-    pub fn is_specular(&self) -> bool {
+    fn is_specular(&self) -> bool {
         match self {
-            Self::Black | Self::Diffuse(_) | Self::Plastic(_) => false,
+            Self::Black => false,
+            Self::Diffuse(b) => b.is_specular(),
             Self::Conductor(b) => b.is_specular(),
             Self::Dielectric(b) => b.is_specular(),
+            Self::Plastic(b) => b.is_specular(),
             Self::Phong(b) => b.is_specular(),
         }
     }
