@@ -54,6 +54,7 @@ pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod shapes;
+pub mod texels;
 pub mod texture;
 
 /// The names most programs need.
