@@ -64,24 +64,60 @@
 
 #![warn(missing_docs)]
 
-pub mod accel;
-pub mod bsdf;
-pub mod camera;
-pub mod color;
-pub mod film;
+// The layers, bottom-up: a module uses only the modules declared before it
+// (tests/layers.rs checks this). Blank lines keep rustfmt from sorting them.
+
+// Foundations.
 pub mod geometry;
-pub mod integrator;
-pub mod interaction;
-pub mod light;
-pub mod loader;
-pub mod material;
-pub mod mesh;
-pub mod primitive;
-pub mod render;
+
+pub mod color;
+
+pub mod texels;
+
+// Sampling.
 pub mod sampling;
-pub mod scene;
+
+// Acceleration.
+pub mod accel;
+
+// The geometry of objects.
+pub mod mesh;
+
 pub mod shapes;
+
+// Appearance.
 pub mod texture;
+
+pub mod bsdf;
+
+pub mod material;
+
+// Hits.
+pub mod interaction;
+
+pub mod primitive;
+
+// Emission.
+pub mod light;
+
+// The world.
+pub mod camera;
+
+pub mod scene;
+
+// The image.
+pub mod film;
+
+// Light transport.
+pub mod integrator;
+
+// The loop.
+pub mod render;
+
+// Ways in.
+pub mod loader;
+
+// Tools (for the program and tests; nothing above uses them).
 pub mod tools;
 
 /// The names most programs need.

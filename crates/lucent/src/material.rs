@@ -1,7 +1,7 @@
 //! Materials: how a surface reflects light. A material describes the surface
 //! only; what light reaches it is the integrator's business.
 
-use crate::bsdf::Bxdf;
+use crate::bsdf::{Bxdf, ConductorFresnel};
 use crate::color::Color;
 use crate::geometry::{reflect, Vec2, Vec3};
 use crate::texture::Texture;
@@ -65,8 +65,9 @@ pub enum Material {
     },
     /// A metal.
     Conductor {
-        /// How the Fresnel reflectance is given.
-        fresnel: ConductorFresnel,
+        /// How the Fresnel reflectance is given; Schlick's reflectance at
+        /// normal incidence may be textured.
+        fresnel: ConductorFresnel<Texture>,
         /// GGX roughness α (0: a perfect mirror).
         roughness: f32,
     },
@@ -88,22 +89,6 @@ pub enum Material {
         /// GGX roughness α of the coat (0: smooth).
         roughness: f32,
     },
-}
-
-/// The Fresnel reflectance of a conductor.
-#[derive(Clone, Debug, PartialEq)]
-pub enum ConductorFresnel {
-    /// Complex index of refraction `eta + i·k` per RGB channel (e.g. gold:
-    /// eta (0.143, 0.374, 1.442), k (3.983, 2.385, 1.603)).
-    Complex {
-        /// Real part.
-        eta: Color,
-        /// Imaginary part (absorption).
-        k: Color,
-    },
-    /// Colour at normal incidence, with Schlick's approximation towards
-    /// white at grazing angles.
-    Reflectance(Texture),
 }
 
 /// The parameters of the classic matte and Phong materials.
@@ -210,7 +195,7 @@ impl Material {
                         let one = Color::ONE;
                         ((*eta - one) * (*eta - one) + *k * *k) / ((*eta + one) * (*eta + one) + *k * *k)
                     }
-                    ConductorFresnel::Reflectance(t) => t.evaluate(uv),
+                    ConductorFresnel::Schlick { r0 } => r0.evaluate(uv),
                 };
                 matte(Color::ZERO, r0)
             }
@@ -241,7 +226,7 @@ impl Material {
             Self::Diffuse { reflectance } => Bxdf::diffuse(reflectance.evaluate(uv)),
             Self::Conductor { fresnel, roughness } => match fresnel {
                 ConductorFresnel::Complex { eta, k } => Bxdf::conductor(*eta, *k, *roughness),
-                ConductorFresnel::Reflectance(t) => Bxdf::conductor_schlick(t.evaluate(uv), *roughness),
+                ConductorFresnel::Schlick { r0 } => Bxdf::conductor_schlick(r0.evaluate(uv), *roughness),
             },
             Self::Dielectric { eta, roughness, tint } => Bxdf::dielectric(*eta, *roughness, *tint),
             Self::Plastic { reflectance, eta, roughness } => Bxdf::plastic(reflectance.evaluate(uv), *eta, *roughness),
@@ -278,7 +263,7 @@ impl PhongBsdf {
     pub fn f(&self, wo: Vec3, wi: Vec3, n: Vec3) -> Color {
         let mut f = self.diffuse;
         if self.ks > 0.0 {
-            let r = reflect(-wi, n);
+            let r = reflect(wi, n);
             let cos_r = r.dot(wo);
             if cos_r > 0.0 {
                 f += Color::splat(self.ks * cos_r.powf(self.exponent));

@@ -3,24 +3,32 @@
 
 use super::fresnel::{fr_conductor, fr_schlick};
 use super::microfacet::TrowbridgeReitz;
-use super::{flip_z, same_hemisphere, BsdfSample};
+use super::{flip_z, same_hemisphere, BsdfSample, BxDF};
 use crate::color::Color;
-use crate::geometry::{Vec2, Vec3};
+use crate::geometry::{reflect, Vec2, Vec3};
 
 /// How a conductor's Fresnel reflectance is computed.
+///
+/// `R` is the type of the reflectance at normal incidence of the Schlick
+/// form: a [`Color`] (the default) in a [`ConductorBxdf`], which holds the
+/// values at one point, and a `Texture` in a material's `Conductor`, which
+/// describes a whole surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ConductorFresnel {
-    /// Exact Fresnel equations with complex index `eta + i·k` per channel.
+pub enum ConductorFresnel<R = Color> {
+    /// Exact Fresnel equations with complex index `eta + i·k` per RGB
+    /// channel (e.g. gold: eta (0.143, 0.374, 1.442), k (3.983, 2.385,
+    /// 1.603)).
     Complex {
         /// Real part of the index of refraction.
         eta: Color,
         /// Absorption coefficient (imaginary part).
         k: Color,
     },
-    /// Schlick's approximation from the reflectance at normal incidence.
+    /// Schlick's approximation from the reflectance (colour) at normal
+    /// incidence, towards white at grazing angles.
     Schlick {
         /// Reflectance at normal incidence.
-        r0: Color,
+        r0: R,
     },
 }
 
@@ -50,21 +58,6 @@ pub struct ConductorBxdf {
 }
 
 impl ConductorBxdf {
-    /// Whether this is a perfect mirror.
-    #[inline]
-    pub fn is_specular(&self) -> bool {
-        self.distrib.effectively_smooth()
-    }
-
-    /// BSDF value (0 for a mirror).
-    pub fn f(&self, wo: Vec3, wi: Vec3) -> Color {
-        if self.is_specular() || !same_hemisphere(wo, wi) {
-            return Color::ZERO;
-        }
-        let (wo, wi) = if wo.z < 0.0 { (flip_z(wo), flip_z(wi)) } else { (wo, wi) };
-        self.f_upper(wo, wi)
-    }
-
     /// Torrance–Sparrow with both directions above the surface.
     fn f_upper(&self, wo: Vec3, wi: Vec3) -> Color {
         let (cos_o, cos_i) = (wo.z, wi.z);
@@ -80,9 +73,21 @@ impl ConductorBxdf {
         let g = self.distrib.g(wo, wi);
         self.fresnel.eval(wo.dot(wm)) * (d * g / (4.0 * cos_o * cos_i))
     }
+}
 
-    /// Mirror reflection, or a visible-normal sample reflected about `wm`.
-    pub fn sample_f(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
+impl BxDF for ConductorBxdf {
+    /// BSDF value (0 for a mirror).
+    fn f(&self, wo: Vec3, wi: Vec3) -> Color {
+        if self.is_specular() || !same_hemisphere(wo, wi) {
+            return Color::ZERO;
+        }
+        let (wo, wi) = if wo.z < 0.0 { (flip_z(wo), flip_z(wi)) } else { (wo, wi) };
+        self.f_upper(wo, wi)
+    }
+
+    /// Mirror reflection, or a visible-normal sample reflected about `wm`
+    /// (`uc` is not used).
+    fn sample_f(&self, wo: Vec3, _uc: f32, u: Vec2) -> Option<BsdfSample> {
         if wo.z == 0.0 {
             return None;
         }
@@ -96,7 +101,7 @@ impl ConductorBxdf {
             return Some(BsdfSample { f, wi: unflip(wi), pdf: 1.0, specular: true, transmission: false, eta: 1.0 });
         }
         let wm = self.distrib.sample_wm(wo_up, u);
-        let wi = super::reflect(wo_up, wm);
+        let wi = reflect(wo_up, wm);
         if wi.z <= 0.0 {
             return None;
         }
@@ -109,7 +114,7 @@ impl ConductorBxdf {
     }
 
     /// `D_wo(wm) / (4 |wo·wm|)` for the half vector (0 for a mirror).
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if self.is_specular() || !same_hemisphere(wo, wi) {
             return 0.0;
         }
@@ -120,5 +125,11 @@ impl ConductorBxdf {
         }
         let wm = wm.normalize();
         self.distrib.d_visible(wo, wm) / (4.0 * wo.dot(wm).abs())
+    }
+
+    /// Whether this is a perfect mirror.
+    #[inline]
+    fn is_specular(&self) -> bool {
+        self.distrib.effectively_smooth()
     }
 }

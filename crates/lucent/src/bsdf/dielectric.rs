@@ -5,9 +5,9 @@
 
 use super::fresnel::fr_dielectric;
 use super::microfacet::TrowbridgeReitz;
-use super::{reflect, refract, same_hemisphere, BsdfSample};
+use super::{same_hemisphere, BsdfSample, BxDF};
 use crate::color::Color;
-use crate::geometry::{Vec2, Vec3};
+use crate::geometry::{reflect, refract, Vec2, Vec3};
 
 /// An interface between two dielectrics. `eta` is the relative index of
 /// refraction, inside (the side opposite the normal) over outside; a `wo`
@@ -38,12 +38,6 @@ pub struct DielectricBxdf {
 }
 
 impl DielectricBxdf {
-    /// Whether reflection and refraction are both delta lobes.
-    #[inline]
-    pub fn is_specular(&self) -> bool {
-        self.eta == 1.0 || self.distrib.effectively_smooth()
-    }
-
     /// The generalised half vector of `(wo, wi)`, facing `+z`, with `η'`;
     /// `None` for degenerate pairs and for back-facing microfacets (those
     /// `wo` or `wi` would see from behind, which contribute nothing).
@@ -82,9 +76,11 @@ impl DielectricBxdf {
         let ft = self.distrib.d(wm) * t * self.distrib.g(wo, wi) * (dwi * dwo / denom).abs();
         ft / (etap * etap)
     }
+}
 
+impl BxDF for DielectricBxdf {
     /// BSDF value (0 when smooth).
-    pub fn f(&self, wo: Vec3, wi: Vec3) -> Color {
+    fn f(&self, wo: Vec3, wi: Vec3) -> Color {
         if self.is_specular() {
             return Color::ZERO;
         }
@@ -102,7 +98,7 @@ impl DielectricBxdf {
 
     /// Sample reflection or transmission, each with its Fresnel
     /// probability.
-    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
+    fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
         if wo.z == 0.0 {
             return None;
         }
@@ -152,7 +148,7 @@ impl DielectricBxdf {
     }
 
     /// Solid-angle pdf of [`DielectricBxdf::sample_f`] (0 when smooth).
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if self.is_specular() {
             return 0.0;
         }
@@ -167,5 +163,11 @@ impl DielectricBxdf {
             let dwm_dwi = dwi.abs() / ((dwi + dwo / etap) * (dwi + dwo / etap));
             self.distrib.d_visible(wo, wm) * dwm_dwi * (1.0 - r)
         }
+    }
+
+    /// Whether reflection and refraction are both delta lobes.
+    #[inline]
+    fn is_specular(&self) -> bool {
+        self.eta == 1.0 || self.distrib.effectively_smooth()
     }
 }

@@ -1,6 +1,6 @@
 //! The Lambertian reflector (PBRT 4th ed., §9.2).
 
-use super::{same_hemisphere, BsdfSample};
+use super::{same_hemisphere, BsdfSample, BxDF};
 use crate::color::Color;
 use crate::geometry::{Vec2, Vec3};
 use crate::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
@@ -14,9 +14,9 @@ pub struct DiffuseBxdf {
     pub r: Color,
 }
 
-impl DiffuseBxdf {
-    /// BSDF value.
-    pub fn f(&self, wo: Vec3, wi: Vec3) -> Color {
+impl BxDF for DiffuseBxdf {
+    /// `R/π` on the side of `wo`.
+    fn f(&self, wo: Vec3, wi: Vec3) -> Color {
         if same_hemisphere(wo, wi) {
             self.r * FRAC_1_PI
         } else {
@@ -24,8 +24,8 @@ impl DiffuseBxdf {
         }
     }
 
-    /// Cosine-weighted sample on the side of `wo`.
-    pub fn sample_f(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
+    /// Cosine-weighted sample on the side of `wo` (`uc` is not used).
+    fn sample_f(&self, wo: Vec3, _uc: f32, u: Vec2) -> Option<BsdfSample> {
         if wo.z == 0.0 {
             return None;
         }
@@ -41,11 +41,16 @@ impl DiffuseBxdf {
     }
 
     /// `|cos θi|/π` on the side of `wo`.
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if same_hemisphere(wo, wi) {
             cosine_hemisphere_pdf(wi.z.abs())
         } else {
             0.0
         }
+    }
+
+    /// Never: the lobe is diffuse.
+    fn is_specular(&self) -> bool {
+        false
     }
 }

@@ -7,6 +7,10 @@
 //! surface. A [`Bsdf`] wraps a `Bxdf` with the frame, and takes and returns
 //! world-space directions.
 //!
+//! Every BxDF implements the [`BxDF`] trait (`f`, `sample_f`, `pdf`,
+//! `is_specular`, all with the same signatures), and the enum [`Bxdf`]
+//! dispatches to them.
+//!
 //! Conventions every BxDF follows:
 //! * `f(wo, wi)` is the BSDF value, *without* the cosine factor.
 //! * `pdf(wo, wi)` is the solid-angle density with which `sample_f(wo, ..)`
@@ -33,7 +37,6 @@
 mod conductor;
 mod dielectric;
 mod diffuse;
-mod frame;
 pub mod fresnel;
 pub mod microfacet;
 mod phong;
@@ -44,13 +47,12 @@ mod tests;
 pub use conductor::{ConductorBxdf, ConductorFresnel};
 pub use dielectric::DielectricBxdf;
 pub use diffuse::DiffuseBxdf;
-pub use frame::Frame;
 pub use microfacet::TrowbridgeReitz;
 pub use phong::PhongBxdf;
 pub use plastic::PlasticBxdf;
 
 use crate::color::Color;
-use crate::geometry::{Vec2, Vec3};
+use crate::geometry::{Frame, Vec2, Vec3};
 
 /// A direction sampled from a BSDF.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -75,7 +77,29 @@ pub struct BsdfSample {
     pub eta: f32,
 }
 
-/// A scattering function in the local shading frame.
+/// The interface of every scattering function, in the local shading frame
+/// (PBRT 4th ed., §9.1.2, `BxDF`). See the module documentation for the
+/// conventions.
+pub trait BxDF {
+    /// BSDF value for light arriving from `wi`, leaving towards `wo`
+    /// (without the cosine factor; 0 for delta lobes).
+    fn f(&self, wo: Vec3, wi: Vec3) -> Color;
+
+    /// Sample an incident direction for `wo`, from a 1D sample `uc` (used to
+    /// pick a lobe; BxDFs with one lobe ignore it) and a 2D sample `u`.
+    /// `None` when no direction is produced.
+    fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample>;
+
+    /// Solid-angle pdf with which [`BxDF::sample_f`] produces `wi` given
+    /// `wo` (0 for directions that only a delta lobe reaches).
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32;
+
+    /// Whether every lobe is a delta: light sampling cannot help.
+    fn is_specular(&self) -> bool;
+}
+
+/// A scattering function in the local shading frame: one of the BxDFs of
+/// this module, dispatched through [`BxDF`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Bxdf {
     /// Black: absorbs everything (e.g. an emitter's surface).
@@ -137,9 +161,11 @@ impl Bxdf {
     pub fn phong(diffuse: Color, ks: f32, exponent: f32, kr: f32) -> Self {
         Self::Phong(PhongBxdf::new(diffuse, ks, exponent, kr))
     }
+}
 
+impl BxDF for Bxdf {
     /// BSDF value for light arriving from `wi`, leaving towards `wo`.
-    pub fn f(&self, wo: Vec3, wi: Vec3) -> Color {
+    fn f(&self, wo: Vec3, wi: Vec3) -> Color {
         match self {
             Self::Black => Color::ZERO,
             Self::Diffuse(b) => b.f(wo, wi),
@@ -152,11 +178,11 @@ impl Bxdf {
 
     /// Sample an incident direction for `wo`, from a 1D sample `uc` (used to
     /// pick a lobe) and a 2D sample `u`.
-    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
+    fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
         match self {
             Self::Black => None,
-            Self::Diffuse(b) => b.sample_f(wo, u),
-            Self::Conductor(b) => b.sample_f(wo, u),
+            Self::Diffuse(b) => b.sample_f(wo, uc, u),
+            Self::Conductor(b) => b.sample_f(wo, uc, u),
             Self::Dielectric(b) => b.sample_f(wo, uc, u),
             Self::Plastic(b) => b.sample_f(wo, uc, u),
             Self::Phong(b) => b.sample_f(wo, uc, u),
@@ -164,7 +190,7 @@ impl Bxdf {
     }
 
     /// Solid-angle pdf of sampling `wi` given `wo`.
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         match self {
             Self::Black => 0.0,
             Self::Diffuse(b) => b.pdf(wo, wi),
@@ -176,11 +202,13 @@ impl Bxdf {
     }
 
     /// Whether every lobe is a delta: light sampling cannot help.
-    pub fn is_specular(&self) -> bool {
+    fn is_specular(&self) -> bool {
         match self {
-            Self::Black | Self::Diffuse(_) | Self::Plastic(_) => false,
+            Self::Black => false,
+            Self::Diffuse(b) => b.is_specular(),
             Self::Conductor(b) => b.is_specular(),
             Self::Dielectric(b) => b.is_specular(),
+            Self::Plastic(b) => b.is_specular(),
             Self::Phong(b) => b.is_specular(),
         }
     }
@@ -213,37 +241,6 @@ pub(crate) fn two_sided<T: Default>(wo: Vec3, wi: Vec3, f_upper: impl Fn(Vec3, V
     } else {
         f_upper(wo, wi)
     }
-}
-
-/// Mirror `wo` about the unit normal `n`: `−wo + 2 (wo·n) n`.
-#[inline]
-pub(crate) fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
-    -wo + 2.0 * wo.dot(n) * n
-}
-
-/// Refract `wo` through the interface with unit normal `n` and relative
-/// index `eta` (far side over `n`'s side), by Snell's law in vector form
-/// (PBRT 4th ed., eq. 9.13):
-/// `wt = −wo/η + (cos θi/η − cos θt) n`. A `wo` on the far side of `n`
-/// flips `n` and uses `1/η`. Returns the direction and the index `η'` that
-/// applied (far side over `wo`'s side), or `None` on total internal
-/// reflection.
-#[inline]
-pub(crate) fn refract(wo: Vec3, n: Vec3, eta: f32) -> Option<(Vec3, f32)> {
-    let mut cos_i = n.dot(wo);
-    let (mut eta, mut n) = (eta, n);
-    if cos_i < 0.0 {
-        eta = 1.0 / eta;
-        cos_i = -cos_i;
-        n = -n;
-    }
-    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
-    let sin2_t = sin2_i / (eta * eta);
-    if sin2_t >= 1.0 {
-        return None;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    Some((-wo / eta + (cos_i / eta - cos_t) * n, eta))
 }
 
 /// A [`Bxdf`] placed on a surface: the shading frame and the geometric

@@ -21,9 +21,9 @@
 //! the side of `wo`, so it is exactly the density of the returned samples.
 //! Reflection only, two-sided.
 
-use super::{flip_z, two_sided, BsdfSample, Frame};
+use super::{flip_z, two_sided, BsdfSample, BxDF};
 use crate::color::Color;
-use crate::geometry::{Vec2, Vec3};
+use crate::geometry::{Frame, Vec2, Vec3};
 use crate::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
 use std::f32::consts::{FRAC_1_PI, PI};
 
@@ -51,12 +51,6 @@ impl PhongBxdf {
         let sum = wd.max_element() + ws + wr;
         let scale = if sum > 1.0 { 1.0 / sum } else { 1.0 };
         Self { wd: wd * scale, ws: ws * scale, wr: wr * scale, exponent: pos(exponent) }
-    }
-
-    /// Whether only the mirror lobe is present.
-    #[inline]
-    pub fn is_specular(&self) -> bool {
-        self.wd == Color::ZERO && self.ws == 0.0 && self.wr > 0.0
     }
 
     /// Lobe selection probabilities (diffuse, glossy, mirror); all 0 if the
@@ -92,14 +86,16 @@ impl PhongBxdf {
         let (pd, ps, _) = self.probabilities();
         pd * cosine_hemisphere_pdf(wi.z) + ps * (self.exponent + 1.0) / (2.0 * PI) * self.lobe(wo, wi)
     }
+}
 
+impl BxDF for PhongBxdf {
     /// BSDF value of the non-delta lobes.
-    pub fn f(&self, wo: Vec3, wi: Vec3) -> Color {
+    fn f(&self, wo: Vec3, wi: Vec3) -> Color {
         two_sided(wo, wi, |wo, wi| self.f_upper(wo, wi))
     }
 
     /// Pick a lobe with `uc`, sample it with `u`.
-    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
+    fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
         if wo.z == 0.0 {
             return None;
         }
@@ -135,7 +131,13 @@ impl PhongBxdf {
     }
 
     /// Mixture pdf of the diffuse and glossy lobes.
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         two_sided(wo, wi, |wo, wi| self.pdf_upper(wo, wi))
+    }
+
+    /// Whether only the mirror lobe is present.
+    #[inline]
+    fn is_specular(&self) -> bool {
+        self.wd == Color::ZERO && self.ws == 0.0 && self.wr > 0.0
     }
 }

@@ -31,9 +31,9 @@
 
 use super::fresnel::{fr_dielectric, fr_dielectric_hemispherical};
 use super::microfacet::TrowbridgeReitz;
-use super::{flip_z, reflect, two_sided, BsdfSample};
+use super::{flip_z, two_sided, BsdfSample, BxDF};
 use crate::color::Color;
-use crate::geometry::{Vec2, Vec3};
+use crate::geometry::{reflect, Vec2, Vec3};
 use crate::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
 use rayon::prelude::*;
 use std::f32::consts::PI;
@@ -120,15 +120,17 @@ impl PlasticBxdf {
         }
         pdf
     }
+}
 
+impl BxDF for PlasticBxdf {
     /// BSDF value (for a smooth coat, without the delta reflection).
-    pub fn f(&self, wo: Vec3, wi: Vec3) -> Color {
+    fn f(&self, wo: Vec3, wi: Vec3) -> Color {
         two_sided(wo, wi, |wo, wi| self.f_upper(wo, wi))
     }
 
     /// Sample the coat or the base, with probabilities proportional to
     /// their albedos for `wo`.
-    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
+    fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
         if wo.z == 0.0 {
             return None;
         }
@@ -158,8 +160,13 @@ impl PlasticBxdf {
     }
 
     /// Mixture pdf of the coat (if rough) and the base.
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         two_sided(wo, wi, |wo, wi| self.pdf_upper(wo, wi))
+    }
+
+    /// Never: the base is diffuse.
+    fn is_specular(&self) -> bool {
+        false
     }
 }
 

@@ -26,6 +26,7 @@
 //! usual parameters; within that tolerance the sampling is proportional to
 //! `|f|`, which is why the weight is a constant sign.
 
+use crate::sampling::tent;
 use glam::Vec2;
 
 /// A reconstruction filter. Radii are in pixels.
@@ -304,7 +305,7 @@ impl FilterSampler {
                 FilterSample { offset, weight: 1.0 }
             }
             Filter::Tent { radius } => {
-                FilterSample { offset: Vec2::new(sample_tent(u.x, radius), sample_tent(u.y, radius)), weight: 1.0 }
+                FilterSample { offset: Vec2::new(tent(u.x, radius), tent(u.y, radius)), weight: 1.0 }
             }
             Filter::Gaussian { .. } | Filter::Mitchell { .. } => {
                 let table = self.table.as_ref().expect("tabulated filters have a table");
@@ -327,16 +328,6 @@ impl FilterSampler {
             }
         }
     }
-}
-
-/// Invert the CDF of the tent `1 − |x|/r` on `[−r, r]`: the CDF is
-/// `(1 + x/r)²/2` for `x ≤ 0` and `1 − (1 − x/r)²/2` for `x ≥ 0`, so
-/// `x = r(√(2u) − 1)` for `u < 1/2` and `x = r(1 − √(2(1 − u)))` otherwise.
-#[inline]
-fn sample_tent(u: f32, r: f32) -> f32 {
-    let u = if u.is_nan() { 0.5 } else { u.clamp(0.0, 1.0) };
-    let x = if u < 0.5 { r * ((2.0 * u).sqrt() - 1.0) } else { r * (1.0 - (2.0 * (1.0 - u)).sqrt()) };
-    x.clamp(-r, r)
 }
 
 #[cfg(test)]
@@ -468,18 +459,6 @@ mod tests {
                 let x = sampler.sample(Vec2::new(u, 0.5)).offset.x;
                 assert!(x >= prev, "{filter:?}: not monotone at {u}");
                 prev = x;
-            }
-        }
-    }
-
-    #[test]
-    fn tent_inverse_is_exact() {
-        for &r in &[0.5f32, 1.0, 2.0] {
-            for k in 0..=100 {
-                let u = k as f32 / 100.0;
-                let x = sample_tent(u, r);
-                let cdf = if x <= 0.0 { 0.5 * (1.0 + x / r).powi(2) } else { 1.0 - 0.5 * (1.0 - x / r).powi(2) };
-                assert!((cdf - u).abs() < 1e-5, "r {r} u {u}: x {x} cdf {cdf}");
             }
         }
     }

@@ -13,89 +13,74 @@ pub use filter::{Filter, FilterError, FilterSample, FilterSampler, TABLE_SEGMENT
 pub use output::{ImageFormat, OutputError, PendingImage};
 pub use tonemap::{srgb_encode, ToneMap};
 
-use crate::color::Color;
+/// The film cannot be allocated: its size is unusable or the memory
+/// cannot be had (the [`ImageSizeError`](crate::texels::ImageSizeError) of
+/// the [`TexelGrid`] it is stored in).
+pub use crate::texels::ImageSizeError as FilmError;
+pub use crate::texels::{check_image_size, MAX_DIMENSION, MAX_PIXELS};
 
-/// A linear-radiance image.
+use crate::color::Color;
+use crate::texels::TexelGrid;
+
+/// A linear-radiance image, stored in a [`TexelGrid`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {
-    width: u32,
-    height: u32,
-    pixels: Vec<Color>,
-}
-
-/// Largest image accepted: 2²⁸ pixels (16384 × 16384), whose film alone takes
-/// 3 GiB.
-pub const MAX_PIXELS: u64 = 1 << 28;
-
-/// Largest width or height accepted.
-pub const MAX_DIMENSION: u32 = 65_536;
-
-/// The film cannot be allocated.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-pub enum FilmError {
-    /// Width or height zero.
-    #[error("image size {0}×{1} is empty: width and height must be at least 1")]
-    Empty(u32, u32),
-    /// Larger than [`MAX_PIXELS`] or [`MAX_DIMENSION`].
-    #[error("image size {0}×{1} is too large: at most {MAX_DIMENSION} per side and {MAX_PIXELS} pixels in all")]
-    TooLarge(u32, u32),
-    /// The memory could not be reserved.
-    #[error("not enough memory for a {0}×{1} image")]
-    OutOfMemory(u32, u32),
-}
-
-/// Check an image size before anything is allocated for it.
-pub fn check_image_size(width: u32, height: u32) -> Result<(), FilmError> {
-    if width == 0 || height == 0 {
-        return Err(FilmError::Empty(width, height));
-    }
-    if width > MAX_DIMENSION || height > MAX_DIMENSION || width as u64 * height as u64 > MAX_PIXELS {
-        return Err(FilmError::TooLarge(width, height));
-    }
-    Ok(())
+    texels: TexelGrid,
 }
 
 impl Film {
     /// A black film; the size is checked and the memory reserved fallibly.
     pub fn new(width: u32, height: u32) -> Result<Self, FilmError> {
-        check_image_size(width, height)?;
-        let n = width as usize * height as usize;
-        let mut pixels = Vec::new();
-        pixels.try_reserve_exact(n).map_err(|_| FilmError::OutOfMemory(width, height))?;
-        pixels.resize(n, Color::ZERO);
-        Ok(Self { width, height, pixels })
+        Ok(Self { texels: TexelGrid::new(width, height)? })
     }
 
     /// Width in pixels.
+    #[inline]
     pub fn width(&self) -> u32 {
-        self.width
+        self.texels.width()
     }
 
     /// Height in pixels.
+    #[inline]
     pub fn height(&self) -> u32 {
-        self.height
+        self.texels.height()
     }
 
     /// The pixel at column `x`, row `y` (row 0 at the top).
+    #[inline]
     pub fn pixel(&self, x: u32, y: u32) -> Color {
-        self.pixels[y as usize * self.width as usize + x as usize]
+        self.texels.pixel(x, y)
     }
 
     /// All pixels, row by row from the top.
+    #[inline]
     pub fn pixels(&self) -> &[Color] {
-        &self.pixels
+        self.texels.pixels()
     }
 
     /// Mutable pixels, row by row from the top.
+    #[inline]
     pub fn pixels_mut(&mut self) -> &mut [Color] {
-        &mut self.pixels
+        self.texels.pixels_mut()
+    }
+
+    /// The pixels as a grid.
+    #[inline]
+    pub fn texels(&self) -> &TexelGrid {
+        &self.texels
+    }
+
+    /// The pixels as a grid, without copying.
+    #[inline]
+    pub fn into_texels(self) -> TexelGrid {
+        self.texels
     }
 
     /// 8-bit display values: tone mapped, then sRGB-encoded if `srgb`
     /// (otherwise written linearly), then quantised with rounding.
     pub fn to_rgb8(&self, tone_map: ToneMap, srgb: bool) -> Vec<u8> {
-        let mut out = Vec::with_capacity(self.pixels.len() * 3);
-        for &c in &self.pixels {
+        let mut out = Vec::with_capacity(self.pixels().len() * 3);
+        for &c in self.pixels() {
             let mapped = tone_map.apply(c);
             for v in mapped.to_array() {
                 let v = if srgb { srgb_encode(v) } else { v };
@@ -103,5 +88,12 @@ impl Film {
             }
         }
         out
+    }
+}
+
+impl From<TexelGrid> for Film {
+    /// A film showing the grid's colours.
+    fn from(texels: TexelGrid) -> Self {
+        Self { texels }
     }
 }

@@ -7,11 +7,13 @@
 
 mod bounds;
 mod float;
+mod frame;
 mod ray;
 mod transform;
 
 pub use bounds::Bounds3;
 pub use float::{gamma, offset_ray_origin, MACHINE_EPSILON};
+pub use frame::{coordinate_system, gram_schmidt, Frame};
 pub use ray::Ray;
 pub use transform::{Transform, TransformError};
 
@@ -27,24 +29,40 @@ pub fn face_forward(v: Vec3, reference: Vec3) -> Vec3 {
     }
 }
 
-/// Mirror `incident` (pointing *towards* the surface) about the normal `n`.
+/// Mirror `wo` about the unit normal `n`: `−wo + 2 (wo·n) n`, the law of
+/// reflection (PBRT 4th ed., `Reflect`).
 ///
-/// `r = i - 2 (i·n) n`, the law of reflection.
+/// Both directions point *away* from the surface: `wo` is the direction
+/// light leaves towards, the result the direction it arrives from (or vice
+/// versa). To bounce a ray travelling along `d`, call `reflect(-d, n)`.
 #[inline]
-pub fn reflect(incident: Vec3, n: Vec3) -> Vec3 {
-    incident - 2.0 * incident.dot(n) * n
+pub fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
+    -wo + 2.0 * wo.dot(n) * n
 }
 
-/// Build two unit vectors that, with the unit vector `n`, form a right-handed
-/// orthonormal basis.
-///
-/// Branchless construction of Duff et al., "Building an Orthonormal Basis,
-/// Revisited", JCGT 6(1), 2017.
-pub fn coordinate_system(n: Vec3) -> (Vec3, Vec3) {
-    let sign = 1.0f32.copysign(n.z);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    (Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3::new(b, sign + n.y * n.y * a, -n.y))
+/// Refract `wo` through the interface with unit normal `n` and relative
+/// index `eta` (far side over `n`'s side), by Snell's law in vector form
+/// (PBRT 4th ed., eq. 9.13):
+/// `wt = −wo/η + (cos θi/η − cos θt) n`. A `wo` on the far side of `n`
+/// flips `n` and uses `1/η`. Returns the direction and the index `η'` that
+/// applied (far side over `wo`'s side), or `None` on total internal
+/// reflection.
+#[inline]
+pub fn refract(wo: Vec3, n: Vec3, eta: f32) -> Option<(Vec3, f32)> {
+    let mut cos_i = n.dot(wo);
+    let (mut eta, mut n) = (eta, n);
+    if cos_i < 0.0 {
+        eta = 1.0 / eta;
+        cos_i = -cos_i;
+        n = -n;
+    }
+    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
+    let sin2_t = sin2_i / (eta * eta);
+    if sin2_t >= 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    Some((-wo / eta + (cos_i / eta - cos_t) * n, eta))
 }
 
 #[cfg(test)]
@@ -52,27 +70,23 @@ mod tests {
     use super::*;
 
     #[test]
-    fn coordinate_system_is_orthonormal() {
-        for n in [
-            Vec3::X,
-            Vec3::Y,
-            Vec3::Z,
-            -Vec3::Z,
-            Vec3::new(1.0, 2.0, -3.0).normalize(),
-            Vec3::new(-0.3, 0.0, -1e-4).normalize(),
-        ] {
-            let (s, t) = coordinate_system(n);
-            assert!((s.length() - 1.0).abs() < 1e-6);
-            assert!((t.length() - 1.0).abs() < 1e-6);
-            assert!(s.dot(t).abs() < 1e-6 && s.dot(n).abs() < 1e-6 && t.dot(n).abs() < 1e-6);
-            assert!((s.cross(t) - n).length() < 1e-5, "right-handed");
-        }
+    fn reflect_obeys_the_law_of_reflection() {
+        let wo = Vec3::new(1.0, 1.0, 0.0).normalize();
+        let r = reflect(wo, Vec3::Y);
+        assert_eq!(r, Vec3::new(-wo.x, wo.y, 0.0));
     }
 
     #[test]
-    fn reflect_obeys_the_law_of_reflection() {
-        let i = Vec3::new(1.0, -1.0, 0.0).normalize();
-        let r = reflect(i, Vec3::Y);
-        assert_eq!(r, Vec3::new(i.x, -i.y, 0.0));
+    fn refract_obeys_snells_law_and_reports_total_internal_reflection() {
+        // Entering glass (η = 1.5) at 45°: sin θt = sin θi / η.
+        let wo = Vec3::new(1.0, 1.0, 0.0).normalize();
+        let (wt, etap) = refract(wo, Vec3::Y, 1.5).unwrap();
+        assert_eq!(etap, 1.5);
+        assert!((wt.length() - 1.0).abs() < 1e-6 && wt.y < 0.0);
+        assert!((wt.x.abs() - wo.x / 1.5).abs() < 1e-6 && wt.x < 0.0);
+        // From inside, 45° is beyond the critical angle (41.8°); 17° is not.
+        assert!(refract(-wo, Vec3::Y, 1.5).is_none());
+        let (wt, etap) = refract(Vec3::new(0.3, -1.0, 0.0).normalize(), Vec3::Y, 1.5).unwrap();
+        assert!((etap - 1.0 / 1.5).abs() < 1e-7 && wt.y > 0.0);
     }
 }

@@ -80,7 +80,7 @@ impl Integrator for WhittedIntegrator {
             throughput *= bsdf.kr;
             depth += 1;
             stats.secondary += 1;
-            ray = si.spawn_ray(reflect(-wo, ns));
+            ray = si.spawn_ray(reflect(wo, ns));
         }
     }
 }

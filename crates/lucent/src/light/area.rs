@@ -12,6 +12,7 @@
 use super::emitter::{LiSample, LightSampleContext};
 use crate::color::{luminance, Color};
 use crate::geometry::{coordinate_system, Vec2, Vec3};
+use crate::sampling::{spherical_triangle, uniform_sphere, uniform_triangle};
 use std::f32::consts::PI;
 
 /// Triangles subtending less than this solid angle (sr) are sampled by
@@ -110,7 +111,7 @@ impl AreaLight {
                 let abc = v.map(|x| (x - ctx.p).normalize_or_zero());
                 let omega = solid_angle_of_directions(abc);
                 if spherical_sampling(omega) {
-                    let wi = sample_spherical_triangle(abc, omega, u)?;
+                    let wi = spherical_triangle(abc, omega, u)?;
                     // Where the direction meets the triangle's plane.
                     let n = triangle_normal(v)?;
                     let denom = n.dot(wi);
@@ -124,7 +125,7 @@ impl AreaLight {
                     (ctx.p + t * wi, n, 1.0 / omega)
                 } else {
                     let n = triangle_normal(v)?;
-                    let p = sample_triangle_area(v, u);
+                    let p = uniform_triangle(v, u);
                     let area = 0.5 * (v[1] - v[0]).cross(v[2] - v[0]).length();
                     let to = p - ctx.p;
                     let d2 = to.length_squared();
@@ -277,35 +278,12 @@ fn sample_sphere(center: Vec3, radius: f32, p: Vec3, u: Vec2) -> Option<(Vec3, V
     Some((center + radius * n, n, 1.0 / (2.0 * PI * one_minus_cos_max)))
 }
 
-/// A uniformly distributed unit vector from `u` in `[0, 1)²`.
-#[inline]
-pub(crate) fn uniform_sphere(u: Vec2) -> Vec3 {
-    let z = 1.0 - 2.0 * u.x;
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * PI * u.y;
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
-}
-
 /// The front normal of a triangle; `None` when it is degenerate.
 #[inline]
 fn triangle_normal(v: [Vec3; 3]) -> Option<Vec3> {
     let n = (v[1] - v[0]).cross(v[2] - v[0]);
     let len = n.length();
     (len > 0.0 && len.is_finite()).then(|| n / len)
-}
-
-/// A point uniformly distributed over the triangle by area (PBRT 4th ed.,
-/// §6.5.4, `SampleUniformTriangle`: the square is folded onto the triangle
-/// along its diagonal without the square-root warp).
-fn sample_triangle_area(v: [Vec3; 3], u: Vec2) -> Vec3 {
-    let (b0, b1) = if u.x < u.y {
-        let b0 = u.x / 2.0;
-        (b0, u.y - b0)
-    } else {
-        let b1 = u.y / 2.0;
-        (u.x - b1, b1)
-    };
-    b0 * v[0] + b1 * v[1] + (1.0 - b0 - b1) * v[2]
 }
 
 /// Solid angle subtended at `p` by a triangle, from the formula of
@@ -326,55 +304,6 @@ fn solid_angle_of_directions([a, b, c]: [Vec3; 3]) -> f32 {
     let num = a.dot(b.cross(c)).abs();
     let den = 1.0 + a.dot(b) + b.dot(c) + c.dot(a);
     (2.0 * num.atan2(den)).max(0.0)
-}
-
-/// `v` made orthogonal to unit `w` and normalised (Gram–Schmidt).
-#[inline]
-fn orthonormal_to(v: Vec3, w: Vec3) -> Vec3 {
-    (v - v.dot(w) * w).normalize_or_zero()
-}
-
-/// A direction uniformly distributed over the spherical triangle with
-/// corners at the unit vectors `a`, `b`, `c` and area (solid angle) `area`,
-/// by Arvo's method (SIGGRAPH 1995):
-///
-/// 1. Choose the area `Â = u₀ · Ω` of a sub-triangle `A B Ĉ` with `Ĉ` on
-///    the arc `AC`; with `α` the angle at `A` and `c` the arc `AB`, the
-///    cosine of the arc `AĈ` is
-///    `q = ((v t − u s) cos α − v) / ((v s + u t) sin α)`, where
-///    `s = sin(Â − α)`, `t = cos(Â − α)`, `u = t − cos α`,
-///    `v = s + sin α cos c`.
-/// 2. Choose a point on the arc `B Ĉ` with `cos θ = 1 − u₁ (1 − Ĉ·B)`.
-///
-/// The area is the solid angle of Van Oosterom & Strackee that the pdf
-/// `1/Ω` also uses (equal to Girard's angle excess `α + β + γ − π`), so
-/// only the angle at `A` is needed, and only through its sine and cosine:
-/// those come from the great-circle normals of the edges at `A`, and
-/// `sin(Â − α)`, `cos(Â − α)` from the angle-difference identities, with
-/// no inverse trigonometric function.
-fn sample_spherical_triangle([a, b, c]: [Vec3; 3], area: f32, u: Vec2) -> Option<Vec3> {
-    // Normals of the great circles through AB and AC; the angle at A is
-    // the angle between n_ab and −n_ca.
-    let n_ab = a.cross(b).normalize_or_zero();
-    let n_ca = c.cross(a).normalize_or_zero();
-    if n_ab == Vec3::ZERO || n_ca == Vec3::ZERO || area.is_nan() || area <= 0.0 {
-        return None;
-    }
-    let cos_alpha = (-n_ab.dot(n_ca)).clamp(-1.0, 1.0);
-    let sin_alpha = n_ab.cross(n_ca).length().min(1.0);
-    let (sin_a, cos_a) = (u.x * area).sin_cos();
-    // s = sin(Â − α), t = cos(Â − α).
-    let s = sin_a * cos_alpha - cos_a * sin_alpha;
-    let t = cos_a * cos_alpha + sin_a * sin_alpha;
-    let uu = t - cos_alpha;
-    let vv = s + sin_alpha * a.dot(b);
-    let den = (vv * s + uu * t) * sin_alpha;
-    let q = if den != 0.0 { (((vv * t - uu * s) * cos_alpha - vv) / den).clamp(-1.0, 1.0) } else { 1.0 };
-    let c_hat = q * a + (1.0 - q * q).max(0.0).sqrt() * orthonormal_to(c, a);
-    let z = 1.0 - u.y * (1.0 - c_hat.dot(b));
-    let w = z * b + (1.0 - z * z).max(0.0).sqrt() * orthonormal_to(c_hat, b);
-    let w = w.normalize_or_zero();
-    (w != Vec3::ZERO).then_some(w)
 }
 
 #[cfg(test)]
@@ -548,7 +477,7 @@ mod tests {
             let m = 100_000;
             let mut sum = 0.0f64;
             for _ in 0..m {
-                let x = sample_triangle_area(v, Vec2::new(rng.uniform(), rng.uniform()));
+                let x = uniform_triangle(v, Vec2::new(rng.uniform(), rng.uniform()));
                 let to = x - p;
                 let d2 = to.length_squared();
                 let w = to / d2.sqrt();

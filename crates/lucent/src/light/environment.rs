@@ -36,12 +36,11 @@
 //! `dω = sin θ dθ dφ = 2π² sin θ du dv`, the solid-angle density is
 //! `p(ω) = p(u, v) / (2π² sin θ)`.
 
-use super::area::uniform_sphere;
 use super::emitter::{LiSample, LightSampleContext};
 use crate::color::{luminance, Color};
-use crate::film::check_image_size;
 use crate::geometry::{Vec2, Vec3};
-use crate::sampling::PiecewiseConstant2D;
+use crate::sampling::{uniform_sphere, PiecewiseConstant2D};
+use crate::texels::{check_image_size, ImageSizeError, TexelGrid};
 use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -86,7 +85,7 @@ pub enum EnvironmentError {
         /// The file (or `<memory>`).
         path: PathBuf,
         /// What is wrong with the size.
-        source: crate::film::FilmError,
+        source: ImageSizeError,
     },
     /// The pixel buffer does not have `width × height` entries.
     #[error("environment map '{path}': {len} pixels given for a {width}×{height} image")]
@@ -121,10 +120,8 @@ pub enum EnvironmentError {
 /// An equirectangular environment image with its sampling distribution.
 #[derive(Clone)]
 pub struct EnvironmentMap {
-    width: u32,
-    height: u32,
     /// Radiance, scale applied, row by row from the top (`v = 0`).
-    pixels: Vec<Color>,
+    texels: TexelGrid,
     /// `(cos R, sin R)` of the rotation about `+y`.
     rotation: (f32, f32),
     distribution: PiecewiseConstant2D,
@@ -133,8 +130,8 @@ pub struct EnvironmentMap {
 impl std::fmt::Debug for EnvironmentMap {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("EnvironmentMap")
-            .field("width", &self.width)
-            .field("height", &self.height)
+            .field("width", &self.width())
+            .field("height", &self.height())
             .field("rotation", &self.rotation)
             .finish_non_exhaustive()
     }
@@ -177,7 +174,7 @@ impl EnvironmentMap {
         path: &Path,
         width: u32,
         height: u32,
-        mut pixels: Vec<Color>,
+        pixels: Vec<Color>,
         scale: f32,
         rotation: f32,
     ) -> Result<Self, EnvironmentError> {
@@ -188,10 +185,14 @@ impl EnvironmentMap {
             return Err(EnvironmentError::Rotation(rotation));
         }
         check_image_size(width, height).map_err(|source| EnvironmentError::Size { path: path.to_owned(), source })?;
-        if pixels.len() != width as usize * height as usize {
-            return Err(EnvironmentError::PixelCount { path: path.to_owned(), width, height, len: pixels.len() });
-        }
-        for (i, c) in pixels.iter_mut().enumerate() {
+        let len = pixels.len();
+        let mut texels = TexelGrid::from_pixels(width, height, pixels).ok_or_else(|| EnvironmentError::PixelCount {
+            path: path.to_owned(),
+            width,
+            height,
+            len,
+        })?;
+        for (i, c) in texels.pixels_mut().iter_mut().enumerate() {
             if !c.is_finite() {
                 let (x, y) = ((i % width as usize) as u32, (i / width as usize) as u32);
                 return Err(EnvironmentError::NonFinite { path: path.to_owned(), x, y });
@@ -199,7 +200,8 @@ impl EnvironmentMap {
             *c = c.max(Color::ZERO) * scale;
         }
         let (w, h) = (width as usize, height as usize);
-        let weights: Vec<f32> = pixels
+        let weights: Vec<f32> = texels
+            .pixels()
             .iter()
             .enumerate()
             .map(|(i, &c)| {
@@ -209,22 +211,27 @@ impl EnvironmentMap {
             .collect();
         let distribution = PiecewiseConstant2D::new(&weights, w, h);
         let r = rotation.to_radians();
-        Ok(Self { width, height, pixels, rotation: (r.cos(), r.sin()), distribution })
+        Ok(Self { texels, rotation: (r.cos(), r.sin()), distribution })
     }
 
     /// Width in pixels.
     pub fn width(&self) -> u32 {
-        self.width
+        self.texels.width()
     }
 
     /// Height in pixels.
     pub fn height(&self) -> u32 {
-        self.height
+        self.texels.height()
     }
 
     /// The radiance of pixel `(x, y)` (scale applied; row 0 at the top).
     pub fn pixel(&self, x: u32, y: u32) -> Color {
-        self.pixels[y as usize * self.width as usize + x as usize]
+        self.texels.pixel(x, y)
+    }
+
+    /// The radiance, scale applied, as a grid.
+    pub fn texels(&self) -> &TexelGrid {
+        &self.texels
     }
 
     /// World direction → the map's own frame: turn by `−R` about `+y`.
@@ -244,8 +251,9 @@ impl EnvironmentMap {
     /// The pixel at `(u, v)`.
     #[inline]
     fn lookup(&self, uv: Vec2) -> Color {
-        let x = ((uv.x * self.width as f32) as u32).min(self.width - 1);
-        let y = ((uv.y * self.height as f32) as u32).min(self.height - 1);
+        let (w, h) = (self.width(), self.height());
+        let x = ((uv.x * w as f32) as u32).min(w - 1);
+        let y = ((uv.y * h as f32) as u32).min(h - 1);
         self.pixel(x, y)
     }
 
@@ -258,13 +266,13 @@ impl EnvironmentMap {
     /// `Φ = π r² Σ L_i Ω_i`, with `Ω_i = (2π / w)(cos θ₀ − cos θ₁)` the solid
     /// angle of pixel `i` (PBRT 4th ed., §12.5.2, for a lat-long map).
     pub fn power(&self, r: f32) -> f32 {
-        let (w, h) = (self.width as usize, self.height as usize);
+        let (w, h) = (self.width() as usize, self.height() as usize);
         let mut sum = 0.0f64;
         for y in 0..h {
             let t0 = PI as f64 * y as f64 / h as f64;
             let t1 = PI as f64 * (y + 1) as f64 / h as f64;
             let omega = 2.0 * std::f64::consts::PI / w as f64 * (t0.cos() - t1.cos());
-            let row: f64 = self.pixels[y * w..(y + 1) * w].iter().map(|&c| luminance(c) as f64).sum();
+            let row: f64 = self.texels.pixels()[y * w..(y + 1) * w].iter().map(|&c| luminance(c) as f64).sum();
             sum += row * omega;
         }
         (std::f64::consts::PI * (r as f64) * (r as f64) * sum) as f32

@@ -4,8 +4,8 @@
 
 use super::description::*;
 use super::locate::*;
-use super::values::*;
 use super::objects::{BuildContext, Place};
+use super::values::*;
 use super::{LoadedScene, SceneFile};
 use crate::camera::{Camera, CameraError, ThinLens};
 use crate::color::Color;

@@ -5,9 +5,10 @@ use super::description::*;
 use super::locate::*;
 use super::values::*;
 use super::SceneFile;
+use crate::bsdf::ConductorFresnel;
 use crate::color::Color;
 use crate::geometry::Vec3;
-use crate::material::{ConductorFresnel, Material};
+use crate::material::Material;
 use crate::scene::SceneError;
 use crate::texture::Texture;
 
@@ -51,13 +52,15 @@ impl SceneFile {
             }
             MaterialDesc::Conductor(c) => {
                 let fresnel = match (c.color, c.eta, c.k, c.metal) {
-                    (Some(color), None, None, None) => ConductorFresnel::Reflectance(Texture::Constant(color.into())),
+                    (Some(color), None, None, None) => {
+                        ConductorFresnel::Schlick { r0: Texture::Constant(color.into()) }
+                    }
                     (None, Some(eta), Some(k), None) => ConductorFresnel::Complex { eta: eta.into(), k: k.into() },
                     (None, None, None, Some(metal)) => {
                         let (eta, k) = metal_ior(metal);
                         ConductorFresnel::Complex { eta, k }
                     }
-                    (None, None, None, None) => ConductorFresnel::Reflectance(Texture::Constant(Color::ONE)),
+                    (None, None, None, None) => ConductorFresnel::Schlick { r0: Texture::Constant(Color::ONE) },
                     _ => {
                         return Err(self.error(
                             at(),

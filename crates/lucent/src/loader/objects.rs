@@ -3,8 +3,8 @@
 
 use super::description::*;
 use super::locate::*;
-use super::values::*;
 use super::materials::material_from_file;
+use super::values::*;
 use super::SceneFile;
 use crate::geometry::{Mat4, Transform, Vec3};
 use crate::material::MaterialId;

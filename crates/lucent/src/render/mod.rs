@@ -154,7 +154,9 @@ pub fn render_into(
             let integrator = WhittedIntegrator { max_depth: settings.max_depth };
             render_into_with(scene, settings, &integrator, acc, options)
         }
-        IntegratorKind::Path => render_into_with(scene, settings, &PathIntegrator::new(settings.max_depth), acc, options),
+        IntegratorKind::Path => {
+            render_into_with(scene, settings, &PathIntegrator::new(settings.max_depth), acc, options)
+        }
     }
 }
 

@@ -14,4 +14,7 @@ pub use distribution::{AliasTable, PiecewiseConstant1D, PiecewiseConstant2D};
 pub use pattern::{stratified_2d, PixelSampler};
 pub use rng::{mix_seed, Pcg32};
 pub use sampler::{Sampler, SamplerKind};
-pub use warp::{concentric_disk, cosine_hemisphere, cosine_hemisphere_pdf};
+pub use warp::{
+    concentric_disk, cosine_hemisphere, cosine_hemisphere_pdf, spherical_triangle, tent, uniform_sphere,
+    uniform_triangle,
+};

@@ -1,11 +1,12 @@
 //! [`SceneBuilder`]: the one way to make a [`Scene`].
 
 use super::{finite_bounds, Scene, SceneError};
+use crate::bsdf::ConductorFresnel;
 use crate::camera::Camera;
 use crate::color::Color;
 use crate::geometry::Transform;
 use crate::light::{AreaLight, AreaShape, Emitter, Environment, Light, LightSet};
-use crate::material::{ConductorFresnel, Material, MaterialId};
+use crate::material::{Material, MaterialId};
 use crate::primitive::{merge_loose_triangles, BvhAggregate, Primitive};
 use crate::shapes::{Mesh, Shape};
 use crate::texture::Texture;
@@ -511,7 +512,7 @@ fn check_material(m: &Material) -> Result<(), String> {
         Material::Classic(_) => (None, None),
         Material::Diffuse { reflectance } => (Some(reflectance), None),
         Material::Conductor { fresnel, roughness } => match fresnel {
-            ConductorFresnel::Reflectance(t) => (Some(t), Some(*roughness)),
+            ConductorFresnel::Schlick { r0: t } => (Some(t), Some(*roughness)),
             ConductorFresnel::Complex { .. } => (None, Some(*roughness)),
         },
         Material::Dielectric { roughness, .. } => (None, Some(*roughness)),
