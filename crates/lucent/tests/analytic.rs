@@ -148,7 +148,7 @@ fn compare(cam: &RefCamera, film: &Film, mat: &RefMaterial, lights: &[RefLight])
         let (o, d) = cam.pixel_ray(x, y);
         let t = match ray_sphere(o, d, d3(CENTRE), RADIUS as f64, 1e-4) {
             Hit::Miss => {
-                assert_eq!(got, v3(BACKGROUND), "pixel ({x}, {y}) misses the sphere: background expected");
+                assert_pixel(got, v3(BACKGROUND), &format!("pixel ({x}, {y}) misses the sphere: background expected"));
                 tally.background += 1;
                 continue;
             }
@@ -192,7 +192,11 @@ fn compare(cam: &RefCamera, film: &Film, mat: &RefMaterial, lights: &[RefLight])
             tally.max_rel_err = tally.max_rel_err.max(err);
             tally.lit += 1;
         } else {
-            assert_eq!(got, ambient_f32, "pixel ({x}, {y}) receives no light: the ambient term exactly expected");
+            assert_pixel(
+                got,
+                ambient_f32,
+                &format!("pixel ({x}, {y}) receives no light: the ambient term exactly expected"),
+            );
             tally.ambient_only += 1;
         }
     }
@@ -352,11 +356,11 @@ fn ambient_only_and_background_are_exact() {
         let (o, d) = cam.pixel_ray(x, y);
         match ray_sphere(o, d, d3(CENTRE), RADIUS as f64, 1e-4) {
             Hit::At(_) => {
-                assert_eq!(film.pixel(x, y), want, "pixel ({x}, {y})");
+                assert_pixel(film.pixel(x, y), want, &format!("pixel ({x}, {y})"));
                 on += 1;
             }
             Hit::Miss => {
-                assert_eq!(film.pixel(x, y), v3(BACKGROUND), "pixel ({x}, {y})");
+                assert_pixel(film.pixel(x, y), v3(BACKGROUND), &format!("pixel ({x}, {y})"));
                 off += 1;
             }
             Hit::Uncertain => {}

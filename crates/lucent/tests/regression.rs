@@ -60,6 +60,7 @@ fn scenes_match_their_reference_images() {
     let mut failures = Vec::new();
     let files = scene_files();
     assert!(!files.is_empty(), "no scenes found");
+    let (mut compared, mut skipped) = (0, Vec::new());
     let shared = repo_root().join("../shared");
     for path in &files {
         let name = path.file_stem().unwrap().to_string_lossy().into_owned();
@@ -69,9 +70,11 @@ fn scenes_match_their_reference_images() {
         if needs_shared && !shared.exists() {
             assert!(std::env::var("CI").as_deref() != Ok("true"), "{name} needs ../shared, which CI must provide");
             eprintln!("skipping {name}: ../shared is absent");
+            skipped.push(name);
             continue;
         }
         let (w, h, pixels) = render_small(path);
+        compared += 1;
         let ref_path = ref_dir.join(format!("{name}.png"));
         if bless {
             std::fs::create_dir_all(&ref_dir).unwrap();
@@ -105,6 +108,20 @@ fn scenes_match_their_reference_images() {
         }
     }
     assert!(failures.is_empty(), "image regressions:\n{}", failures.join("\n"));
+    // Not vacuous: every scene was rendered and compared, or skipped only
+    // for lack of ../shared (never under CI, asserted above).
+    assert_eq!(compared + skipped.len(), files.len());
+    assert!(compared >= files.len() / 2, "only {compared} of {} scenes compared (skipped: {skipped:?})", files.len());
+    eprintln!("{compared} scenes compared with their references, {} skipped {skipped:?}", skipped.len());
+    // Every reference image belongs to a scene that still exists.
+    if !bless {
+        for entry in std::fs::read_dir(&ref_dir).unwrap() {
+            let path = entry.unwrap().path();
+            let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
+            let scene = repo_root().join("scenes").join(format!("{stem}.toml"));
+            assert!(scene.exists(), "{} has no scene {}", path.display(), scene.display());
+        }
+    }
 }
 
 /// The JSON form of the showcase must give exactly the same image as the

@@ -19,7 +19,7 @@
 //! builder.add_light(Light::point(Vec3::new(5.0, 5.0, -5.0), Color::ONE, 3.0, Falloff::None)?);
 //! builder.set_ambient(Color::splat(0.05))?;
 //! let scene = builder.build()?;
-//! let image = render(&scene, &RenderSettings::default(), &RenderOptions::default())?;
+//! let image = render(&scene, &RenderSettings::default(), RenderOptions::default())?;
 //! assert_eq!(image.film.width(), 32);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```

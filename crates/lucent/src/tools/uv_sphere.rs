@@ -53,7 +53,8 @@ pub fn uv_sphere(stacks: u32, slices: u32) -> Result<TriangleMesh, MeshError> {
             format!(
                 "STACKS * SLICES = {cells} is more than the {MAX_SPHERE_CELLS} this program can hold in memory \
                  ({} triangles)",
-                2 * u64::from(slices) * u64::from(stacks - 1)
+                // u128: u32::MAX² · 2 does not fit a u64.
+                2 * u128::from(slices) * u128::from(stacks - 1)
             ),
         ));
     }

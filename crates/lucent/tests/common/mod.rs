@@ -153,6 +153,23 @@ pub fn smooth_step(x: f64, a: f64, b: f64) -> f64 {
     t * t * (3.0 - 2.0 * t)
 }
 
+/// The film's resolution: a pixel holds the weighted mean of its samples
+/// as fixed-point sums in units of 1/`FIXED_POINT_SCALE` (2⁻²⁰), each sample
+/// rounded to the nearest unit, so a rendered pixel is within half a unit of
+/// the radiance it was given (plus one rounding to f32). This is the only
+/// slack the "exact" checks of rendered pixels allow.
+pub fn film_tolerance(want: Vec3) -> f32 {
+    0.5 / lucent::film::FIXED_POINT_SCALE as f32 + want.abs().max_element() * f32::EPSILON
+}
+
+/// `got` (a rendered pixel) equals `want` up to the film's resolution
+/// ([`film_tolerance`]).
+#[track_caller]
+pub fn assert_pixel(got: Vec3, want: Vec3, what: &str) {
+    let d = (got - want).abs().max_element();
+    assert!(d <= film_tolerance(want), "{what}: rendered {got}, expected {want} (difference {d:e})");
+}
+
 /// Largest channel difference.
 pub fn diff(got: Vec3, want: DVec3) -> f64 {
     (got.as_dvec3() - want).abs().max_element()
