@@ -1,6 +1,7 @@
 //! Meshes, prototypes and instances in scene files.
 
 use lucent::loader::{SceneFile, SceneFormat};
+use lucent::prelude::*;
 use lucent::shapes::Shape;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -102,6 +103,82 @@ prototype = "loop"
     assert!(e.message.contains("contains itself"), "{e}");
     let e = parse("[[instance]]\nprototype = \"nope\"\n").unwrap_err();
     assert!(e.message.contains("prototype \"nope\" is not defined"), "{e}");
+}
+
+/// A prototype that places itself, directly or through others, is an
+/// error even when no instance uses it (docs/scene-format.md, section 9b).
+#[test]
+fn an_unused_prototype_cycle_is_refused() {
+    let src = r#"
+[prototypes.a]
+material = "red"
+[[prototypes.a.sphere]]
+[[prototypes.a.group]]
+[[prototypes.a.group.instance]]
+prototype = "b"
+
+[prototypes.b]
+[[prototypes.b.instance]]
+prototype = "a"
+
+[[sphere]]
+material = "red"
+"#;
+    let e = parse(src).unwrap_err();
+    assert!(e.message.contains("prototype \"a\" contains itself (\"a\" > \"b\" > \"a\")"), "{e}");
+    let line = e.location.expect("located").line;
+    assert!(e.line_text.as_deref().is_some_and(|l| l.contains("prototypes.a")), "line {line}: {e}");
+    // The same through the builder, for code and importers.
+    let camera = Camera::new(Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO, Vec3::Y, 60.0, 8, 8).unwrap();
+    let mut b = SceneBuilder::new(camera);
+    let m = b.add_material(Material::matte(Color::ONE, 1.0).unwrap()).unwrap();
+    b.begin_prototype("x").unwrap();
+    b.add_shape(Sphere::new(Vec3::ZERO, 1.0).unwrap(), Transform::IDENTITY, m).unwrap();
+    b.add_instance("y", Transform::IDENTITY, None).unwrap();
+    b.end_prototype().unwrap();
+    b.begin_prototype("y").unwrap();
+    b.add_instance("x", Transform::IDENTITY, None).unwrap();
+    b.end_prototype().unwrap();
+    let e = b.build().unwrap_err();
+    assert!(e.message.contains("prototype \"x\" contains itself (\"x\" > \"y\" > \"x\")"), "{e}");
+}
+
+/// The builder's prototypes: placed copies take the instance's transform
+/// (after their own) and, if given, its material; a missing prototype or an
+/// unfinished one is an error.
+#[test]
+fn builder_prototypes_place_transformed_copies() {
+    let camera = Camera::new(Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO, Vec3::Y, 60.0, 8, 8).unwrap();
+    let mut b = SceneBuilder::new(camera.clone());
+    let red = b.add_material(Material::matte(Color::new(1.0, 0.0, 0.0), 1.0).unwrap()).unwrap();
+    let blue = b.add_material(Material::matte(Color::new(0.0, 0.0, 1.0), 1.0).unwrap()).unwrap();
+    b.begin_prototype("ball").unwrap();
+    b.add_shape(Sphere::new(Vec3::ZERO, 1.0).unwrap(), Transform::translate(Vec3::X), red).unwrap();
+    b.end_prototype().unwrap();
+    b.begin_prototype("two balls").unwrap();
+    b.add_instance("ball", Transform::IDENTITY, None).unwrap();
+    b.add_instance("ball", Transform::translate(Vec3::new(0.0, 5.0, 0.0)), None).unwrap();
+    b.end_prototype().unwrap();
+    b.add_instance("two balls", Transform::translate(Vec3::new(0.0, 0.0, 10.0)), Some(blue)).unwrap();
+    let scene = b.build().unwrap();
+    let centres: Vec<Vec3> = scene
+        .primitives()
+        .iter()
+        .map(|p| {
+            let b = p.bounds();
+            (b.min + b.max) * 0.5
+        })
+        .collect();
+    assert_eq!(centres, [Vec3::new(1.0, 0.0, 10.0), Vec3::new(1.0, 5.0, 10.0)]);
+    assert!(scene.primitives().iter().all(|p| p.material() == blue));
+
+    let mut b = SceneBuilder::new(camera.clone());
+    b.add_instance("nowhere", Transform::IDENTITY, None).unwrap();
+    assert!(b.build().unwrap_err().message.contains("prototype \"nowhere\" is not defined"));
+    let mut b = SceneBuilder::new(camera);
+    b.begin_prototype("open").unwrap();
+    assert!(b.begin_prototype("nested").unwrap_err().message.contains("do not nest"));
+    assert!(b.build().unwrap_err().message.contains("never ended"));
 }
 
 #[test]

@@ -12,10 +12,12 @@ mod emitter;
 mod environment;
 mod set;
 
-pub use area::{triangle_solid_angle, AreaLight, AreaShape};
+pub use area::AreaLight;
 pub use emitter::{Emitter, LiSample, LightSampleContext};
 pub use environment::{equirect_direction, equirect_uv, Environment, EnvironmentError, EnvironmentMap};
 pub use set::LightSet;
+// Moved to `shapes` with the rest of the triangle's light sampling.
+pub use crate::shapes::triangle_solid_angle;
 
 use crate::color::Color;
 use crate::geometry::Vec3;

@@ -47,8 +47,9 @@ mod tests {
     use super::*;
     use crate::color::Color;
     use crate::geometry::Vec3;
-    use crate::light::{AreaLight, AreaShape, Environment, Falloff, Light};
+    use crate::light::{AreaLight, Environment, Falloff, Light};
     use crate::sampling::Pcg32;
+    use crate::shapes::{Shape, Triangle};
 
     fn bounds() -> Bounds3 {
         Bounds3::from_points(Vec3::splat(-1.0), Vec3::splat(1.0))
@@ -59,7 +60,7 @@ mod tests {
         let emitters = vec![
             Emitter::Delta(Light::point(Vec3::ZERO, Color::ONE, 1.0, Falloff::InverseSquare).unwrap()),
             Emitter::Area(AreaLight {
-                shape: AreaShape::Triangle([Vec3::ZERO, Vec3::X, Vec3::Y]),
+                shape: Shape::Triangle(Triangle::new([Vec3::ZERO, Vec3::X, Vec3::Y], None).unwrap()),
                 radiance: Color::splat(4.0),
                 two_sided: false,
             }),

@@ -4,11 +4,11 @@ use super::{finite_bounds, Scene, SceneError};
 use crate::bsdf::ConductorFresnel;
 use crate::camera::Camera;
 use crate::color::Color;
-use crate::geometry::Transform;
-use crate::light::{AreaLight, AreaShape, Emitter, Environment, Light, LightSet};
+use crate::geometry::{Transform, Vec3};
+use crate::light::{AreaLight, Emitter, Environment, Light, LightSet};
 use crate::material::{Material, MaterialId};
 use crate::primitive::{merge_loose_triangles, BvhAggregate, Primitive};
-use crate::shapes::{Mesh, Shape};
+use crate::shapes::{Mesh, Shape, Sphere, Triangle};
 use crate::texture::Texture;
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -321,7 +321,7 @@ impl SceneBuilder {
         let merged = merge_loose_triangles(&self.primitives);
         let aggregate = BvhAggregate::new(&merged);
         let bounds = finite_bounds(&self.primitives);
-        let mut emitters: Vec<Emitter> = self.area_lights.iter().map(|&a| Emitter::Area(a)).collect();
+        let mut emitters: Vec<Emitter> = self.area_lights.iter().cloned().map(Emitter::Area).collect();
         emitters.extend(self.lights.iter().cloned().map(Emitter::Delta));
         match &self.environment {
             Some(env) => emitters.push(Emitter::Environment(env.clone())),
@@ -470,24 +470,26 @@ fn uniform_scale(t: &Transform) -> Option<f32> {
 }
 
 /// The world-space light shapes of an emissive primitive: one sphere, or one
-/// triangle per face.
-fn area_shapes(primitive: &Primitive, emission: Emission) -> Result<Vec<AreaShape>, EmissionError> {
+/// triangle per face (degenerate faces included, so that face `i` is light
+/// `first + i`). Only [`Shape::Sphere`] and [`Shape::Triangle`], the shapes
+/// an [`AreaLight`] samples.
+fn area_shapes(primitive: &Primitive, emission: Emission) -> Result<Vec<Shape>, EmissionError> {
     if !(emission.radiance.is_finite() && emission.radiance.min_element() >= 0.0) {
         return Err(EmissionError::Radiance);
     }
     let t = primitive.transform();
+    let triangle = |v: [Vec3; 3]| Shape::Triangle(Triangle::new_unchecked(v.map(|p| t.point(p))));
     Ok(match primitive.shape() {
         Shape::Plane(_) => return Err(EmissionError::Plane),
         Shape::Sphere(s) => {
             let scale = uniform_scale(&t).ok_or(EmissionError::Ellipsoid)?;
-            vec![AreaShape::Sphere { center: t.point(s.center()), radius: s.radius() * scale }]
+            vec![Shape::Sphere(Sphere::new_unchecked(t.point(s.center()), s.radius() * scale))]
         }
-        Shape::Triangle(tri) => vec![AreaShape::Triangle(tri.vertices().map(|p| t.point(p)))],
+        Shape::Triangle(tri) => vec![triangle(tri.vertices())],
         Shape::Mesh(mesh) => {
             let mut shapes = Vec::new();
             shapes.try_reserve_exact(mesh.triangle_count()).map_err(|_| EmissionError::TooMany)?;
-            shapes
-                .extend((0..mesh.triangle_count()).map(|i| AreaShape::Triangle(mesh.triangle(i).map(|p| t.point(p)))));
+            shapes.extend((0..mesh.triangle_count()).map(|i| triangle(mesh.triangle(i))));
             shapes
         }
     })

@@ -79,6 +79,16 @@ impl Mesh {
         self.bvh.bounds()
     }
 
+    /// Surface area: the sum of the faces' areas, in object space.
+    pub fn area(&self) -> f32 {
+        (0..self.triangle_count())
+            .map(|i| {
+                let [p0, p1, p2] = self.triangle(i);
+                0.5 * (p1 - p0).cross(p2 - p0).length()
+            })
+            .sum()
+    }
+
     /// Heap bytes of the mesh data and its BVH.
     pub fn memory_bytes(&self) -> usize {
         self.positions.capacity() * 12

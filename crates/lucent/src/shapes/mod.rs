@@ -5,6 +5,15 @@
 //! Each intersection routine returns the hit point together with a
 //! conservative bound on its floating-point error, so that rays spawned from
 //! it can be offset robustly (see [`crate::geometry::offset_ray_origin`]).
+//!
+//! Spheres and triangles can also be sampled, as area lights need (PBRT 4th
+//! ed., §6.1): [`Sphere::area`], [`Sphere::sample_area`] (uniform by area),
+//! [`Sphere::sample_solid_angle`] (by the solid angle the shape subtends at
+//! a reference point), [`Sphere::pdf_solid_angle`], and the same methods on
+//! [`Triangle`]. [`Shape`] dispatches them; planes and meshes are not
+//! sampled (an emissive mesh is one light per face). The sampling methods
+//! take the shape in whatever space the reference point is in: lights keep
+//! world-space copies.
 
 mod mesh;
 mod mesh_bvh;
@@ -17,7 +26,7 @@ pub use mesh::Mesh;
 pub use mesh_bvh::{MeshBvh, MeshHit};
 pub use plane::Plane;
 pub use sphere::Sphere;
-pub use triangle::Triangle;
+pub use triangle::{triangle_solid_angle, Triangle, MAX_SPHERICAL_SAMPLE_AREA, MIN_SPHERICAL_SAMPLE_AREA};
 
 use crate::geometry::{Bounds3, Ray, Vec2, Vec3};
 use std::sync::Arc;
@@ -59,6 +68,19 @@ pub struct ShapeHit {
     pub uv: Vec2,
     /// Which face of a mesh was hit (0 for other shapes).
     pub face: u32,
+}
+
+/// A point sampled on the surface of a shape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeSample {
+    /// The point.
+    pub p: Vec3,
+    /// Unit normal there, on the shape's front side (a sphere's outside, the
+    /// side a triangle's corners wind counter-clockwise around).
+    pub n: Vec3,
+    /// Its density: per unit area from `sample_area`, per unit solid angle
+    /// at the reference point from `sample_solid_angle`.
+    pub pdf: f32,
 }
 
 /// The shapes lucent knows. An enum rather than a trait object: dispatch is a
@@ -107,6 +129,64 @@ impl Shape {
             Shape::Mesh(s) => s.bounds(),
         }
     }
+
+    /// Surface area, in the shape's own space: infinite for a plane, the
+    /// sum of its faces for a mesh.
+    pub fn area(&self) -> f32 {
+        match self {
+            Shape::Sphere(s) => s.area(),
+            Shape::Plane(_) => f32::INFINITY,
+            Shape::Triangle(s) => s.area(),
+            Shape::Mesh(s) => s.area(),
+        }
+    }
+
+    /// A point sampled uniformly by area with `u` in `[0, 1)²` (see
+    /// [`Sphere::sample_area`], [`Triangle::sample_area`]); `None` for
+    /// planes and meshes, which are not sampled.
+    pub fn sample_area(&self, u: Vec2) -> Option<ShapeSample> {
+        match self {
+            Shape::Sphere(s) => s.sample_area(u),
+            Shape::Triangle(s) => s.sample_area(u),
+            Shape::Plane(_) | Shape::Mesh(_) => None,
+        }
+    }
+
+    /// A point sampled by the solid angle the shape subtends at `p` (see
+    /// [`Sphere::sample_solid_angle`], [`Triangle::sample_solid_angle`]);
+    /// `None` for planes and meshes, which are not sampled.
+    pub fn sample_solid_angle(&self, p: Vec3, u: Vec2) -> Option<ShapeSample> {
+        match self {
+            Shape::Sphere(s) => s.sample_solid_angle(p, u),
+            Shape::Triangle(s) => s.sample_solid_angle(p, u),
+            Shape::Plane(_) | Shape::Mesh(_) => None,
+        }
+    }
+
+    /// The solid-angle density at `p` with which
+    /// [`Shape::sample_solid_angle`] picks the direction towards the point
+    /// `p_shape` of the surface; 0 for planes and meshes.
+    pub fn pdf_solid_angle(&self, p: Vec3, p_shape: Vec3) -> f32 {
+        match self {
+            Shape::Sphere(s) => s.pdf_solid_angle(p, p_shape),
+            Shape::Triangle(s) => s.pdf_solid_angle(p, p_shape),
+            Shape::Plane(_) | Shape::Mesh(_) => 0.0,
+        }
+    }
+
+    /// A vector, not normalised, pointing to the front side of the surface
+    /// at its point `p`, for telling the sides apart by its sign: `p −
+    /// centre` for a sphere, `(p₁ − p₀) × (p₂ − p₀)` for a triangle (its
+    /// winding, whatever its shading normals), the normal of a plane; zero
+    /// for a mesh (which face `p` is on is not known).
+    pub fn front_side(&self, p: Vec3) -> Vec3 {
+        match self {
+            Shape::Sphere(s) => p - s.center(),
+            Shape::Plane(s) => s.normal(),
+            Shape::Triangle(s) => s.front_side(),
+            Shape::Mesh(_) => Vec3::ZERO,
+        }
+    }
 }
 
 impl From<Sphere> for Shape {
@@ -130,10 +210,58 @@ impl From<Triangle> for Shape {
     }
 }
 
+/// Convert the area density `1 / area` at `p_shape` (normal `n`) to solid
+/// angle at `p`: `d² / (|n · ŵ| · area)` (PBRT 4th ed., §4.2.3); 0 where
+/// undefined.
+fn area_to_solid_angle(p: Vec3, p_shape: Vec3, n: Vec3, area: f32) -> f32 {
+    let to = p_shape - p;
+    let d2 = to.length_squared();
+    if d2 == 0.0 || area <= 0.0 {
+        return 0.0;
+    }
+    let cos = n.dot(to).abs() / d2.sqrt();
+    if cos == 0.0 {
+        return 0.0;
+    }
+    let pdf = d2 / (cos * area);
+    if pdf.is_finite() {
+        pdf
+    } else {
+        0.0
+    }
+}
+
 pub(crate) fn check_finite(v: Vec3) -> Result<Vec3, ShapeError> {
     if v.is_finite() {
         Ok(v)
     } else {
         Err(ShapeError::NonFinite)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn planes_and_meshes_are_not_sampled() {
+        let plane = Shape::from(Plane::new(Vec3::ZERO, Vec3::Y).unwrap());
+        assert_eq!(plane.area(), f32::INFINITY);
+        assert_eq!(plane.sample_area(Vec2::splat(0.5)), None);
+        assert_eq!(plane.sample_solid_angle(Vec3::Y, Vec2::splat(0.5)), None);
+        assert_eq!(plane.pdf_solid_angle(Vec3::Y, Vec3::ZERO), 0.0);
+        let tri = Shape::from(Triangle::new([Vec3::ZERO, Vec3::X, Vec3::Y], None).unwrap());
+        assert_eq!(tri.area(), 0.5);
+        assert!(tri.front_side(Vec3::ZERO).z > 0.0);
+        assert!(tri.sample_solid_angle(Vec3::Z, Vec2::splat(0.5)).is_some());
+        let square = crate::mesh::TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
+            indices: vec![[0, 1, 2], [0, 2, 3]],
+            ..Default::default()
+        };
+        let mesh = Shape::from(Arc::new(Mesh::new(square).unwrap()));
+        assert_eq!(mesh.area(), 1.0);
+        assert_eq!(mesh.sample_solid_angle(Vec3::Z, Vec2::splat(0.5)), None);
+        assert_eq!(mesh.pdf_solid_angle(Vec3::Z, Vec3::new(0.5, 0.5, 0.0)), 0.0);
     }
 }

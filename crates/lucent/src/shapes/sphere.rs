@@ -1,12 +1,22 @@
-use super::{check_finite, ShapeError, ShapeHit};
-use crate::geometry::{gamma, Bounds3, Ray, Vec2, Vec3};
+use super::{area_to_solid_angle, check_finite, ShapeError, ShapeHit, ShapeSample};
+use crate::geometry::{coordinate_system, gamma, Bounds3, Ray, Vec2, Vec3};
+use crate::sampling::uniform_sphere;
 use std::f32::consts::PI;
+
+/// Below `sin²θ_max = sin²(1.5°)` the cone of a distant sphere is handled
+/// with the small-angle expansion `1 − cos θ ≈ sin²θ / 2` (PBRT 4th ed.,
+/// §6.2.4), where `1 − cos θ` would cancel catastrophically.
+const SMALL_SIN2: f32 = 0.000_685_23;
 
 /// A sphere given by its centre and radius. Scaled non-uniformly by an object
 /// transform it becomes an ellipsoid.
 ///
 /// Texture coordinates: `u = φ/2π` around the y axis (from +x towards −z),
 /// `v = θ/π` from the +y pole.
+///
+/// Sampled as a light (PBRT 4th ed., §6.2.4): seen from outside, uniformly
+/// over the cone of directions it subtends; from inside (or on it),
+/// uniformly by area.
 ///
 /// ```
 /// use lucent::geometry::{Ray, Vec3};
@@ -31,6 +41,14 @@ impl Sphere {
         Ok(Self { center: check_finite(center)?, radius })
     }
 
+    /// A sphere, unchecked: for the world-space copies that area lights
+    /// sample, which keep whatever a transform made of a valid sphere. The
+    /// sampling methods give no sample (and area 0) for a radius that is not
+    /// positive.
+    pub(crate) fn new_unchecked(center: Vec3, radius: f32) -> Self {
+        Self { center, radius }
+    }
+
     /// Centre.
     pub fn center(&self) -> Vec3 {
         self.center
@@ -44,6 +62,93 @@ impl Sphere {
     /// Object-space bounds.
     pub fn bounds(&self) -> Bounds3 {
         Bounds3::from_points(self.center - Vec3::splat(self.radius), self.center + Vec3::splat(self.radius))
+    }
+
+    /// Surface area, `4π r²`.
+    pub fn area(&self) -> f32 {
+        4.0 * PI * self.radius * self.radius
+    }
+
+    /// A point uniformly distributed over the surface, from `u` in `[0, 1)²`
+    /// (PBRT 4th ed., §A.5.3: `z` uniform in `[−1, 1]` and `φ` uniform is
+    /// uniform on the sphere, Archimedes); `pdf` is `1 / area`.
+    pub fn sample_area(&self, u: Vec2) -> Option<ShapeSample> {
+        let n = uniform_sphere(u);
+        let p = self.center + self.radius * n;
+        Some(ShapeSample { p, n, pdf: 1.0 / self.area() })
+    }
+
+    /// A point of the sphere seen from `p`, its outward normal and the
+    /// solid-angle pdf at `p`, from `u` in `[0, 1)²`: from outside, uniform
+    /// over the cone of directions the sphere subtends; from inside, on the
+    /// surface or just outside it (`|p − c|² ≤ 1.002 r²`), uniform by area.
+    /// `None` for a radius that is not positive or a zero pdf.
+    pub fn sample_solid_angle(&self, p: Vec3, u: Vec2) -> Option<ShapeSample> {
+        let (center, radius) = (self.center, self.radius);
+        let dc2 = (center - p).length_squared();
+        let r2 = radius * radius;
+        if radius.is_nan() || radius <= 0.0 {
+            return None;
+        }
+        if Self::sampled_by_area(dc2, r2) {
+            // Inside (or on): uniform over the surface.
+            let s = self.sample_area(u)?;
+            let pdf = area_to_solid_angle(p, s.p, s.n, 4.0 * PI * r2);
+            return (pdf > 0.0).then_some(ShapeSample { pdf, ..s });
+        }
+        // Outside: sample cos θ uniformly in [cos θ_max, 1] about the axis
+        // towards the centre, so the pdf is 1 / (2π (1 − cos θ_max)).
+        let sin2_max = r2 / dc2;
+        let sin_max = sin2_max.sqrt();
+        let one_minus_cos_max = one_minus_cos_theta_max(sin2_max);
+        let (cos_theta, sin2_theta) = if sin2_max < SMALL_SIN2 {
+            // sin²θ ≈ u · sin²θ_max to first order, avoiding 1 − cos θ.
+            let s2 = sin2_max * u.x;
+            ((1.0 - s2).sqrt(), s2)
+        } else {
+            let c = 1.0 - u.x * one_minus_cos_max;
+            (c, (1.0 - c * c).max(0.0))
+        };
+        // Rather than intersecting the ray with the sphere, find the angle α at
+        // the centre between the axis (towards p) and the point the ray hits
+        // first (PBRT §6.2.4): from the law of sines, with d_c sin θ = r sin α,
+        // cos α = sin²θ / sin θ_max + cos θ · √(1 − sin²θ / sin²θ_max).
+        let cos_alpha = sin2_theta / sin_max + cos_theta * (1.0 - sin2_theta / sin2_max).max(0.0).sqrt();
+        let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
+        let phi = 2.0 * PI * u.y;
+        let axis = (p - center) / dc2.sqrt();
+        let (s, t) = coordinate_system(axis);
+        let n = (sin_alpha * phi.cos()) * s + (sin_alpha * phi.sin()) * t + cos_alpha * axis;
+        let n = n.normalize();
+        Some(ShapeSample { p: center + radius * n, n, pdf: 1.0 / (2.0 * PI * one_minus_cos_max) })
+    }
+
+    /// The solid-angle pdf with which [`Sphere::sample_solid_angle`] from
+    /// `p` picks the direction towards `p_shape`, a point of the sphere.
+    pub fn pdf_solid_angle(&self, p: Vec3, p_shape: Vec3) -> f32 {
+        let (center, radius) = (self.center, self.radius);
+        let dc2 = (center - p).length_squared();
+        let r2 = radius * radius;
+        if Self::sampled_by_area(dc2, r2) {
+            // Inside (or on): uniform by area, 1 / (4π r²), to solid angle.
+            let n = (p_shape - center).normalize_or_zero();
+            area_to_solid_angle(p, p_shape, n, 4.0 * PI * r2)
+        } else {
+            1.0 / (2.0 * PI * one_minus_cos_theta_max(r2 / dc2))
+        }
+    }
+
+    /// Whether the sphere is sampled by area rather than by the cone it
+    /// subtends, from a point at squared distance `dc2` from the centre
+    /// (`r2` the squared radius): inside, and also on the surface or just
+    /// outside it, where the cone is a whole hemisphere and its construction
+    /// of the point (PBRT §6.2.4) degenerates to the reference point itself.
+    /// Points on the surface computed by intersection land on either side of
+    /// it by rounding, so the margin must exceed that error; area sampling
+    /// is valid (if noisier) from anywhere.
+    #[inline]
+    fn sampled_by_area(dc2: f32, r2: f32) -> bool {
+        dc2 <= r2 * 1.002
     }
 
     /// The two roots of `|o + t d - c|² = r²`, ordered, if real.
@@ -117,9 +222,21 @@ impl Sphere {
     }
 }
 
+/// `1 − cos θ_max` of the cone subtended by a sphere with
+/// `sin²θ_max = r² / d_c²`, accurate for small cones.
+#[inline]
+fn one_minus_cos_theta_max(sin2_max: f32) -> f32 {
+    if sin2_max < SMALL_SIN2 {
+        sin2_max / 2.0
+    } else {
+        1.0 - (1.0 - sin2_max).max(0.0).sqrt()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sampling::Pcg32;
 
     fn unit() -> Sphere {
         Sphere::new(Vec3::new(0.0, 0.0, 10.0), 1.0).unwrap()
@@ -165,6 +282,44 @@ mod tests {
         let s = Sphere::new(Vec3::new(0.0, 0.0, 1e4), 0.01).unwrap();
         let h = s.intersect(&Ray::new(Vec3::ZERO, Vec3::Z), f32::INFINITY).unwrap();
         assert!((h.t - (1e4 - 0.01)).abs() < 1e-3);
+    }
+
+    #[test]
+    fn solid_angle_pdf_integrates_to_one_over_directions() {
+        // From outside (the cone) and inside (by area); the pdf of each
+        // sample is what pdf_solid_angle gives.
+        for (p, center, r) in
+            [(Vec3::ZERO, Vec3::new(0.0, 1.0, 2.0), 1.0f32), (Vec3::new(0.3, -0.2, 0.1), Vec3::ZERO, 1.0)]
+        {
+            let s = Sphere::new(center, r).unwrap();
+            let mut rng = Pcg32::new(9, 9);
+            for _ in 0..1000 {
+                let x = s.sample_solid_angle(p, Vec2::new(rng.uniform(), rng.uniform())).unwrap();
+                assert!(((x.p - center).length() - r).abs() < 1e-5);
+                assert!((x.n - (x.p - center) / r).length() < 1e-5);
+                let pdf = s.pdf_solid_angle(p, x.p);
+                assert!((pdf - x.pdf).abs() <= 1e-4 * x.pdf, "{pdf} vs {}", x.pdf);
+            }
+            let m = 400_000;
+            let mut sum = 0.0f64;
+            for _ in 0..m {
+                let w = uniform_sphere(Vec2::new(rng.uniform(), rng.uniform()));
+                if let Some(h) = s.intersect(&Ray::new(p, w), f32::INFINITY) {
+                    sum += s.pdf_solid_angle(p, h.p) as f64;
+                }
+            }
+            let integral = sum / m as f64 * 4.0 * std::f64::consts::PI;
+            assert!((integral - 1.0).abs() < 0.02, "{integral}");
+        }
+    }
+
+    #[test]
+    fn area_sampling_is_uniform_on_the_surface() {
+        let s = Sphere::new(Vec3::new(1.0, 2.0, 3.0), 2.0).unwrap();
+        assert!((s.area() - 16.0 * PI).abs() < 1e-4);
+        let x = s.sample_area(Vec2::new(0.3, 0.7)).unwrap();
+        assert!(((x.p - s.center()).length() - 2.0).abs() < 1e-5);
+        assert_eq!(x.pdf, 1.0 / s.area());
     }
 
     #[test]

@@ -1,6 +1,14 @@
 use super::watertight::{intersect_triangle, WatertightRay};
-use super::{check_finite, ShapeError, ShapeHit};
+use super::{area_to_solid_angle, check_finite, ShapeError, ShapeHit, ShapeSample};
 use crate::geometry::{gamma, Bounds3, Ray, Vec2, Vec3};
+use crate::sampling::{spherical_triangle, uniform_triangle};
+
+/// Triangles subtending less than this solid angle (sr) are sampled by
+/// area: spherical sampling loses precision there (PBRT 4th ed., §6.5.4).
+pub const MIN_SPHERICAL_SAMPLE_AREA: f32 = 3e-4;
+/// Triangles subtending more than this solid angle (sr, close to 2π) are
+/// sampled by area: the spherical triangle degenerates (PBRT 4th ed.).
+pub const MAX_SPHERICAL_SAMPLE_AREA: f32 = 6.22;
 
 /// A triangle given by three corners, flat-shaded, or smooth-shaded when a
 /// normal is given at each corner (interpolated with the barycentric
@@ -9,6 +17,12 @@ use crate::geometry::{gamma, Bounds3, Ray, Vec2, Vec3};
 /// The geometric normal is `(p₁ - p₀) × (p₂ - p₀)`, normalised: counter-
 /// clockwise corners face the viewer. Texture coordinates are the
 /// barycentrics `(b₁, b₂)`.
+///
+/// Sampled as a light uniformly over the spherical triangle it subtends
+/// (Arvo, "Stratified Sampling of Spherical Triangles", SIGGRAPH 1995; PBRT
+/// 4th ed., §6.5.4) unless that solid angle is tiny or huge
+/// ([`MIN_SPHERICAL_SAMPLE_AREA`], [`MAX_SPHERICAL_SAMPLE_AREA`]), when it
+/// is sampled uniformly by area.
 ///
 /// ```
 /// use lucent::geometry::{Ray, Vec3};
@@ -54,6 +68,16 @@ impl Triangle {
         Ok(Self { p, n: cross / len, normals })
     }
 
+    /// A flat triangle, unchecked: for the world-space copies that area
+    /// lights sample, one per face of an emissive mesh, degenerate faces
+    /// included (so that face `i` stays light `first + i`). A degenerate
+    /// one must not be intersected (its normal is NaN), but its area is 0
+    /// and its sampling methods give no sample (pdf 0 by area).
+    pub(crate) fn new_unchecked(p: [Vec3; 3]) -> Self {
+        let cross = (p[1] - p[0]).cross(p[2] - p[0]);
+        Self { p, n: cross / cross.length(), normals: None }
+    }
+
     /// The corners.
     pub fn vertices(&self) -> [Vec3; 3] {
         self.p
@@ -72,6 +96,90 @@ impl Triangle {
     /// Object-space bounds.
     pub fn bounds(&self) -> Bounds3 {
         Bounds3::from_points(self.p[0], self.p[1]).union_point(self.p[2])
+    }
+
+    /// `(p₁ − p₀) × (p₂ − p₀)`: the front side (twice the area), not
+    /// normalised.
+    #[inline]
+    pub fn front_side(&self) -> Vec3 {
+        let [p0, p1, p2] = self.p;
+        (p1 - p0).cross(p2 - p0)
+    }
+
+    /// Surface area.
+    pub fn area(&self) -> f32 {
+        let v = self.p;
+        0.5 * (v[1] - v[0]).cross(v[2] - v[0]).length()
+    }
+
+    /// The solid angle the triangle subtends at `p` (see
+    /// [`triangle_solid_angle`]).
+    pub fn solid_angle(&self, p: Vec3) -> f32 {
+        triangle_solid_angle(self.p, p)
+    }
+
+    /// A point uniformly distributed over the triangle, from `u` in
+    /// `[0, 1)²`, with the front normal; `pdf` is `1 / area`. `None` for a
+    /// degenerate triangle.
+    pub fn sample_area(&self, u: Vec2) -> Option<ShapeSample> {
+        let n = triangle_normal(self.p)?;
+        let p = uniform_triangle(self.p, u);
+        Some(ShapeSample { p, n, pdf: 1.0 / self.area() })
+    }
+
+    /// A point of the triangle seen from `p`, its front normal and the
+    /// solid-angle pdf at `p`, from `u` in `[0, 1)²`: uniform over the
+    /// spherical triangle it subtends at `p`, or, where that solid angle is
+    /// outside [`MIN_SPHERICAL_SAMPLE_AREA`]..=[`MAX_SPHERICAL_SAMPLE_AREA`],
+    /// uniform by area. `None` where no point can be had (a degenerate
+    /// triangle, `p` in its plane...); the pdf may still be infinite.
+    pub fn sample_solid_angle(&self, p: Vec3, u: Vec2) -> Option<ShapeSample> {
+        let v = self.p;
+        // Unit vectors towards the corners, shared by the solid angle and
+        // the sampling routine.
+        let abc = v.map(|x| (x - p).normalize_or_zero());
+        let omega = solid_angle_of_directions(abc);
+        if spherical_sampling(omega) {
+            let wi = spherical_triangle(abc, omega, u)?;
+            // Where the direction meets the triangle's plane.
+            let n = triangle_normal(v)?;
+            let denom = n.dot(wi);
+            if denom == 0.0 {
+                return None;
+            }
+            let t = n.dot(v[0] - p) / denom;
+            if !(t > 0.0 && t.is_finite()) {
+                return None;
+            }
+            Some(ShapeSample { p: p + t * wi, n, pdf: 1.0 / omega })
+        } else {
+            let s = self.sample_area(u)?;
+            let area = self.area();
+            let to = s.p - p;
+            let d2 = to.length_squared();
+            if d2 == 0.0 {
+                return None;
+            }
+            let cos = s.n.dot(to).abs() / d2.sqrt();
+            if cos == 0.0 {
+                return None;
+            }
+            Some(ShapeSample { pdf: d2 / (cos * area), ..s })
+        }
+    }
+
+    /// The solid-angle pdf with which [`Triangle::sample_solid_angle`] from
+    /// `p` picks the direction towards `p_shape`, a point of the triangle
+    /// (only needed when it is sampled by area).
+    pub fn pdf_solid_angle(&self, p: Vec3, p_shape: Vec3) -> f32 {
+        let v = self.p;
+        let omega = triangle_solid_angle(v, p);
+        if spherical_sampling(omega) {
+            1.0 / omega
+        } else {
+            let Some(n) = triangle_normal(v) else { return 0.0 };
+            area_to_solid_angle(p, p_shape, n, self.area())
+        }
     }
 
     /// Watertight ray–triangle test (see [`crate::shapes::watertight`]) for
@@ -104,9 +212,45 @@ impl Triangle {
     }
 }
 
+/// Whether a triangle subtending `omega` sr is sampled spherically.
+#[inline]
+fn spherical_sampling(omega: f32) -> bool {
+    (MIN_SPHERICAL_SAMPLE_AREA..=MAX_SPHERICAL_SAMPLE_AREA).contains(&omega)
+}
+
+/// The front normal of a triangle; `None` when it is degenerate.
+#[inline]
+fn triangle_normal(v: [Vec3; 3]) -> Option<Vec3> {
+    let n = (v[1] - v[0]).cross(v[2] - v[0]);
+    let len = n.length();
+    (len > 0.0 && len.is_finite()).then(|| n / len)
+}
+
+/// Solid angle subtended at `p` by the triangle with corners `v`, from the
+/// formula of Van Oosterom & Strackee ("The Solid Angle of a Plane
+/// Triangle", IEEE Trans. Biomed. Eng. 30(2), 1983): with unit vectors `a`,
+/// `b`, `c` towards the corners, `tan(Ω/2) = |a · (b × c)| / (1 + a·b + b·c
+/// + c·a)`.
+pub fn triangle_solid_angle(v: [Vec3; 3], p: Vec3) -> f32 {
+    solid_angle_of_directions(v.map(|x| (x - p).normalize_or_zero()))
+}
+
+/// [`triangle_solid_angle`] from the unit vectors towards the corners (0
+/// if one is zero).
+#[inline]
+fn solid_angle_of_directions([a, b, c]: [Vec3; 3]) -> f32 {
+    if a == Vec3::ZERO || b == Vec3::ZERO || c == Vec3::ZERO {
+        return 0.0;
+    }
+    let num = a.dot(b.cross(c)).abs();
+    let den = 1.0 + a.dot(b) + b.dot(c) + c.dot(a);
+    (2.0 * num.atan2(den)).max(0.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sampling::Pcg32;
 
     fn tri() -> Triangle {
         Triangle::new([Vec3::new(0.0, 0.0, 5.0), Vec3::new(2.0, 0.0, 5.0), Vec3::new(0.0, 2.0, 5.0)], None).unwrap()
@@ -154,6 +298,37 @@ mod tests {
         // b = (0.5, 0.5, 0): halfway between n0 and n1 → straight up.
         assert!((h.ns - Vec3::Z).length() < 1e-6);
         assert_eq!(h.n, Vec3::Z);
+    }
+
+    #[test]
+    fn solid_angle_pdf_integrates_to_one_over_the_triangle() {
+        // ∫ p dω over the triangle = ∫ p |cos θ_l| / d² dA: uniform area
+        // samples. Near (spherical sampling) and far (by area).
+        let v = [Vec3::new(-1.0, 0.0, 2.0), Vec3::new(1.0, 0.0, 2.0), Vec3::new(0.0, 1.5, 2.5)];
+        let t = Triangle::new(v, None).unwrap();
+        let (area, n) = (t.area(), t.normal());
+        for (p, spherical) in [(Vec3::ZERO, true), (Vec3::new(0.0, 0.0, -200.0), false)] {
+            assert_eq!(spherical_sampling(t.solid_angle(p)), spherical);
+            let mut rng = Pcg32::new(1, 1);
+            for _ in 0..1000 {
+                let x = t.sample_solid_angle(p, Vec2::new(rng.uniform(), rng.uniform())).unwrap();
+                assert_eq!(x.n, n);
+                let pdf = t.pdf_solid_angle(p, x.p);
+                assert!((pdf - x.pdf).abs() <= 1e-4 * x.pdf, "{pdf} vs {}", x.pdf);
+            }
+            let m = 100_000;
+            let mut sum = 0.0f64;
+            for _ in 0..m {
+                let x = t.sample_area(Vec2::new(rng.uniform(), rng.uniform())).unwrap();
+                assert_eq!(x.pdf, 1.0 / area);
+                let to = x.p - p;
+                let d2 = to.length_squared();
+                let w = to / d2.sqrt();
+                sum += (t.pdf_solid_angle(p, x.p) * n.dot(w).abs() / d2 * area) as f64;
+            }
+            let integral = sum / m as f64;
+            assert!((integral - 1.0).abs() < 0.01, "{p}: {integral}");
+        }
     }
 
     #[test]

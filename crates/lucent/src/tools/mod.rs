@@ -3,10 +3,10 @@
 //! protocol. The `lucent` program and the tests use them; no module of the
 //! renderer does (this is the top layer).
 
-mod compare;
-mod raybench;
+pub mod compare;
+pub mod raybench;
 pub mod sky;
-mod uv_sphere;
+pub mod uv_sphere;
 
 pub use compare::{
     compare, read_image, relative_squared_error, srgb_decode, CompareError, DiffMetrics, ImageReadError,
