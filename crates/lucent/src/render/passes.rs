@@ -160,7 +160,8 @@ impl<I: Integrator> Pass<'_, I> {
                     for x in 0..w {
                         for index in first..first + self.spp {
                             sampler.start_pixel_sample(x, y, index);
-                            let film_pos = Vec2::new(x as f32, y as f32) + sampler.pixel_2d();
+                            let u = sampler.pixel_2d();
+                            let film_pos = Vec2::new(x as f32, y as f32) + u;
                             let lens = sampler.get_2d();
                             let ray = camera.generate_ray(film_pos, lens);
                             let l = self.integrator.li(self.scene, &ray, sampler, &mut stats);
@@ -168,18 +169,29 @@ impl<I: Integrator> Pass<'_, I> {
                                 bad += 1;
                                 continue;
                             }
-                            // Pixels whose centres (i + 0.5) lie within the
-                            // filter radius of the sample.
-                            let lo = (film_pos - Vec2::splat(radius + 0.5)).ceil().max(Vec2::ZERO);
-                            let hi = (film_pos + Vec2::splat(radius - 0.5))
-                                .floor()
-                                .min(Vec2::new(w as f32 - 1.0, h as f32 - 1.0));
-                            for py in lo.y as u32..=hi.y as u32 {
-                                for px in lo.x as u32..=hi.x as u32 {
-                                    let offset = Vec2::new(px as f32 + 0.5, py as f32 + 0.5) - film_pos;
+                            // The pixels x + kx, y + ky whose centres lie within the
+                            // filter radius r of the sample: offsets k with
+                            // u − ½ − r < k ≤ u − ½ + r. The interval is half open,
+                            // so a box filter of radius ½ puts every sample in
+                            // exactly its own pixel, and the offsets are computed
+                            // from the in-pixel position u, free of the rounding
+                            // of x + u.
+                            let k_lo = (u - Vec2::splat(0.5 + radius)).floor() + Vec2::ONE;
+                            let k_hi = (u + Vec2::splat(radius - 0.5)).floor();
+                            for ky in k_lo.y as i64..=k_hi.y as i64 {
+                                let py = y as i64 + ky;
+                                if py < 0 || py >= h as i64 {
+                                    continue;
+                                }
+                                for kx in k_lo.x as i64..=k_hi.x as i64 {
+                                    let px = x as i64 + kx;
+                                    if px < 0 || px >= w as i64 {
+                                        continue;
+                                    }
+                                    let offset = Vec2::new(kx as f32 + 0.5 - u.x, ky as f32 + 0.5 - u.y);
                                     let weight = self.filter.evaluate(offset);
                                     if weight != 0.0 {
-                                        self.acc.splat(px, py, l, weight);
+                                        self.acc.splat(px as u32, py as u32, l, weight);
                                     }
                                 }
                             }
