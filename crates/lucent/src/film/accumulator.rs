@@ -85,10 +85,17 @@ impl Accumulator {
     /// call from many threads at once.
     #[inline]
     pub fn splat(&self, x: u32, y: u32, l: Color, w: f32) {
+        self.add_fixed(x, y, fixed_contribution(l, w));
+    }
+
+    /// Add fixed-point sums (of [`fixed_contribution`]s) to pixel `(x, y)`.
+    /// Integer addition is exact, so adding several samples' contributions
+    /// at once gives the same sums as splatting them one by one.
+    #[inline]
+    pub fn add_fixed(&self, x: u32, y: u32, sums: [i64; 4]) {
         let s = &self.sums[y as usize * self.width as usize + x as usize];
-        let wl = (l * w).clamp(Color::splat(-MAX_CONTRIBUTION), Color::splat(MAX_CONTRIBUTION));
-        for (sum, v) in s.iter().zip([wl.x, wl.y, wl.z, w]) {
-            sum.fetch_add(to_fixed(v), Ordering::Relaxed);
+        for (sum, v) in s.iter().zip(sums) {
+            sum.fetch_add(v, Ordering::Relaxed);
         }
     }
 
@@ -102,6 +109,15 @@ impl Accumulator {
         }
         film
     }
+}
+
+/// What [`Accumulator::splat`] adds for radiance `l` with filter weight
+/// `w`: `[w·r, w·g, w·b, w]` clamped to ±[`MAX_CONTRIBUTION`] and rounded
+/// to fixed point.
+#[inline]
+pub fn fixed_contribution(l: Color, w: f32) -> [i64; 4] {
+    let wl = (l * w).clamp(Color::splat(-MAX_CONTRIBUTION), Color::splat(MAX_CONTRIBUTION));
+    [to_fixed(wl.x), to_fixed(wl.y), to_fixed(wl.z), to_fixed(w)]
 }
 
 /// Round to the nearest fixed-point unit.

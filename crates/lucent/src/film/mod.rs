@@ -7,7 +7,7 @@ mod filter;
 mod output;
 mod tonemap;
 
-pub use accumulator::{Accumulator, FIXED_POINT_SCALE, MAX_CONTRIBUTION};
+pub use accumulator::{fixed_contribution, Accumulator, FIXED_POINT_SCALE, MAX_CONTRIBUTION};
 pub use checkpoint::{load_checkpoint, save_checkpoint, CheckpointError};
 pub use filter::{Filter, FilterError, FilterSample, FilterSampler, TABLE_SEGMENTS};
 pub use output::{ImageFormat, OutputError, PendingImage};

@@ -90,6 +90,11 @@ pub struct Sampler {
     strata: u32,
     /// The stratified sampler's patterns, and the (x, y, run) they are for.
     pattern: Option<(Box<PixelSampler>, (u32, u32, u32))>,
+    /// The pixel of the current sample (stratified sampler).
+    pixel: (u32, u32),
+    /// Whether `rng` is seeded for the current pixel sample (stratified
+    /// sampler).
+    rng_ready: bool,
     /// Hash of (seed, x, y): the per-pixel part of every scramble seed.
     pixel_hash: u64,
     /// The sample index within the pixel.
@@ -112,6 +117,8 @@ impl Sampler {
             seed,
             strata: spp.max(1),
             pattern: None,
+            pixel: (0, 0),
+            rng_ready: false,
             pixel_hash: 0,
             index: 0,
             dimension: 0,
@@ -154,9 +161,24 @@ impl Sampler {
                     pixel.start_pixel(seed, x, y, self.strata);
                     self.pattern = Some((pixel, key));
                 }
-                self.rng = Pcg32::new(mix_seed(&[self.seed, x as u64, y as u64, index as u64]), 1);
+                // The generator of the dimensions after the lens is seeded
+                // when first needed (the Whitted integrator needs none).
+                self.pixel = (x, y);
+                self.rng_ready = false;
             }
         }
+    }
+
+    /// The stratified sampler's generator for the dimensions after the
+    /// lens, seeded by (seed, pixel, index) on first use.
+    #[inline]
+    fn stratified_rng(&mut self) -> &mut Pcg32 {
+        if !self.rng_ready {
+            let (x, y) = self.pixel;
+            self.rng = Pcg32::new(mix_seed(&[self.seed, x as u64, y as u64, self.index as u64]), 1);
+            self.rng_ready = true;
+        }
+        &mut self.rng
     }
 
     /// The stratified pattern's value for the current dimension, if it has
@@ -181,7 +203,7 @@ impl Sampler {
             SamplerKind::Independent => self.rng.uniform(),
             SamplerKind::Stratified => {
                 self.dimension = self.dimension.wrapping_add(1);
-                self.rng.uniform()
+                self.stratified_rng().uniform()
             }
             SamplerKind::Sobol => {
                 let (h_index, h_x, _) = self.dimension_hashes();
@@ -198,8 +220,9 @@ impl Sampler {
     pub fn get_2d(&mut self) -> Vec2 {
         match self.kind {
             SamplerKind::Stratified => self.stratified_2d().unwrap_or_else(|| {
-                let u = self.rng.uniform();
-                let v = self.rng.uniform();
+                let rng = self.stratified_rng();
+                let u = rng.uniform();
+                let v = rng.uniform();
                 Vec2::new(u, v)
             }),
             SamplerKind::Independent => {
