@@ -146,6 +146,9 @@ impl<I: Integrator> Pass<'_, I> {
         let done = AtomicUsize::new(0);
         let settings = self.settings;
         let radius = self.filter.radius();
+        // A box over exactly the pixel: every sample lands in its own pixel
+        // with weight 1, and needs neither footprint nor filter value.
+        let pixel_box = matches!(*self.filter, Filter::Box { radius } if radius == 0.5);
         let camera = self.scene.camera();
         (0..h)
             .into_par_iter()
@@ -180,6 +183,13 @@ impl<I: Integrator> Pass<'_, I> {
                             // exactly its own pixel, and the offsets are computed
                             // from the in-pixel position u, free of the rounding
                             // of x + u.
+                            if pixel_box {
+                                let c = fixed_contribution(l, 1.0);
+                                for (o, c) in own.iter_mut().zip(c) {
+                                    *o += c;
+                                }
+                                continue;
+                            }
                             let k_lo = (u - Vec2::splat(0.5 + radius)).floor() + Vec2::ONE;
                             let k_hi = (u + Vec2::splat(radius - 0.5)).floor();
                             if k_lo == Vec2::ZERO && k_hi == Vec2::ZERO {

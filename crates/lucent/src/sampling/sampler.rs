@@ -90,6 +90,8 @@ pub struct Sampler {
     strata: u32,
     /// The stratified sampler's patterns, and the (x, y, run) they are for.
     pattern: Option<(Box<PixelSampler>, (u32, u32, u32))>,
+    /// The current sample's place in its run (stratified sampler).
+    stratum: u32,
     /// The pixel of the current sample (stratified sampler).
     pixel: (u32, u32),
     /// Whether `rng` is seeded for the current pixel sample (stratified
@@ -117,6 +119,7 @@ impl Sampler {
             seed,
             strata: spp.max(1),
             pattern: None,
+            stratum: 0,
             pixel: (0, 0),
             rng_ready: false,
             pixel_hash: 0,
@@ -149,6 +152,7 @@ impl Sampler {
             }
             SamplerKind::Stratified => {
                 let run = index / self.strata;
+                self.stratum = index - run * self.strata;
                 let key = (x, y, run);
                 if !matches!(&self.pattern, Some((_, k)) if *k == key) {
                     let mut pixel = match self.pattern.take() {
@@ -188,7 +192,7 @@ impl Sampler {
         let d = self.dimension;
         self.dimension = self.dimension.wrapping_add(1);
         let (pattern, _) = self.pattern.as_ref()?;
-        let i = (self.index % self.strata) as usize;
+        let i = self.stratum as usize;
         match d {
             0 => Some(pattern.film(i)),
             1 => Some(pattern.lens(i)),
