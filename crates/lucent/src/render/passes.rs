@@ -7,7 +7,7 @@ use super::{RenderError, RenderOptions, RenderReport, RenderSettings, CANCEL_PAS
 use crate::film::{fixed_contribution, Accumulator, Filter};
 use crate::geometry::Vec2;
 use crate::integrator::{Integrator, RayStats};
-use crate::sampling::Sampler;
+use crate::sampling::{Sampler, SamplerKind};
 use crate::scene::Scene;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
@@ -49,6 +49,11 @@ pub(super) fn run<I: Integrator>(
         (None, Some(_)) => Some(CANCEL_PASS_INTERVAL),
         (interval, None) => interval,
     };
+    // Passes come in multiples of this where they can: the stratified
+    // sampler lays out a pixel's samples in runs of `spp` and makes a run's
+    // pattern once per pass that visits it. (The first timed pass, which
+    // measures the speed, is one run, or one sample for the others.)
+    let granule = if settings.sampler == SamplerKind::Stratified { settings.spp.max(1) } else { 1 };
     // Seconds per sample per pixel, measured on the passes so far.
     let mut seconds_per_spp: Option<f64> = None;
 
@@ -65,7 +70,7 @@ pub(super) fn run<I: Integrator>(
         };
         let pass_spp = match (window, seconds_per_spp) {
             (None, _) => remaining,
-            (Some(_), None) => 1,
+            (Some(_), None) => granule.min(remaining),
             (Some(window), Some(per)) => {
                 let fit = (window.as_secs_f64() / per).floor();
                 if fit < 1.0 {
@@ -74,7 +79,13 @@ pub(super) fn run<I: Integrator>(
                     }
                     1
                 } else {
-                    (fit.min(remaining as f64) as u32).max(1)
+                    let fit = fit.min(remaining as f64) as u32;
+                    // Whole runs of the stratified sampler where they fit.
+                    if fit >= granule && fit < remaining {
+                        fit - fit % granule
+                    } else {
+                        fit.max(1)
+                    }
                 }
             }
         };
