@@ -89,8 +89,9 @@ pub(super) fn run<I: Integrator>(
                 }
             }
         };
-        // What to put back if the pass is cancelled half-way.
-        let before = options.cancel.map(|_| acc.raw());
+        // What to put back if the pass is cancelled half-way (nothing to
+        // copy before the first samples: an empty film).
+        let before = options.cancel.map(|_| (acc.spp() > 0).then(|| acc.raw()));
         let pass_start = Instant::now();
         let progress = |rows_done: usize| {
             if let Some(progress) = options.progress {
@@ -103,9 +104,10 @@ pub(super) fn run<I: Integrator>(
         let pass = Pass { scene, settings, integrator, filter: &settings.filter, acc, spp: pass_spp };
         let pass_stats = pass.render(&nonfinite, options.cancel, &progress);
         if options.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-            if let Some(raw) = before {
-                *acc = Accumulator::from_raw(acc.width(), acc.height(), acc.spp(), &raw)?;
-            }
+            *acc = match before.flatten() {
+                Some(raw) => Accumulator::from_raw(acc.width(), acc.height(), acc.spp(), &raw)?,
+                None => Accumulator::new(acc.width(), acc.height())?,
+            };
             return Err(RenderError::Interrupted);
         }
         stats.merge(&pass_stats);

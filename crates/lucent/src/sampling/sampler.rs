@@ -136,7 +136,7 @@ impl Sampler {
 
     /// Start sample number `index` of pixel `(x, y)`; the values that follow
     /// depend only on the seed, the pixel, the index and the dimension.
-    #[inline]
+    #[inline(always)]
     pub fn start_pixel_sample(&mut self, x: u32, y: u32, index: u32) {
         self.index = index;
         self.dimension = 0;
@@ -187,7 +187,7 @@ impl Sampler {
 
     /// The stratified pattern's value for the current dimension, if it has
     /// one (dimension 0: film, 1: lens), and advance.
-    #[inline]
+    #[inline(always)]
     fn stratified_2d(&mut self) -> Option<Vec2> {
         let d = self.dimension;
         self.dimension = self.dimension.wrapping_add(1);
@@ -220,7 +220,7 @@ impl Sampler {
     }
 
     /// The next two dimensions, uniform in `[0, 1)²`.
-    #[inline]
+    #[inline(always)]
     pub fn get_2d(&mut self) -> Vec2 {
         match self.kind {
             SamplerKind::Stratified => self.stratified_2d().unwrap_or_else(|| {
@@ -248,7 +248,7 @@ impl Sampler {
 
     /// The sample's position within the pixel filter's support: the first
     /// two dimensions.
-    #[inline]
+    #[inline(always)]
     pub fn pixel_2d(&mut self) -> Vec2 {
         self.get_2d()
     }
