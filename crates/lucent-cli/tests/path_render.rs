@@ -418,30 +418,6 @@ fn time_budget_with_checkpoints_keeps_every_sample() {
 
 // ---------------------------------------------------- refusals and parsing --
 
-/// Start `lucent render` in the fixture's directory, let it run for
-/// `after`, then send it `signal` (`INT` as Ctrl-C does, or `TERM`).
-fn render_and_signal(f: &Fixture, args: &[&str], signal: &str, after: std::time::Duration) -> Run {
-    let start = std::time::Instant::now();
-    let child = std::process::Command::new(env!("CARGO_BIN_EXE_lucent"))
-        .args(args)
-        .current_dir(f.path())
-        .env_remove("RUST_BACKTRACE")
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("the lucent binary runs");
-    std::thread::sleep(after);
-    let kill = std::process::Command::new("kill").args([&format!("-{signal}"), &child.id().to_string()]).status();
-    assert!(kill.is_ok_and(|s| s.success()), "kill -{signal} failed");
-    let out = child.wait_with_output().expect("lucent ends");
-    Run {
-        code: out.status.code(),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-        elapsed: start.elapsed(),
-    }
-}
-
 /// Ctrl-C (SIGINT) or SIGTERM stops a render cleanly: no temporary file
 /// and no image are left, the samples of the finished passes are kept as a
 /// checkpoint, and resuming from it gives the image of one uninterrupted
@@ -452,7 +428,7 @@ fn interrupting_a_render_keeps_a_resumable_checkpoint() {
     for signal in ["INT", "TERM"] {
         let out = format!("{signal}.exr");
         let args = ["render", "scene.toml", "-o", &out, "--spp", "1000000"];
-        let run = render_and_signal(&f, &args, signal, std::time::Duration::from_millis(1500));
+        let run = lucent_signalled(f.path(), &args, signal, std::time::Duration::from_millis(1500));
         assert_error(&run, &["interrupted after", &format!("{out}.ckpt"), "--resume"]);
         assert!(!f.file(&out).exists(), "no image is written by an interrupted render");
         f.assert_no_temporaries();

@@ -16,23 +16,43 @@ pub struct Run {
     pub elapsed: Duration,
 }
 
-/// Run `lucent` with `args` in `dir`.
-pub fn lucent(dir: &Path, args: &[&str]) -> Run {
-    let start = Instant::now();
-    let out = Command::new(env!("CARGO_BIN_EXE_lucent"))
+/// The `lucent` command with `args`, to run in `dir`.
+fn command(dir: &Path, args: &[&str]) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_lucent"));
+    command
         .args(args)
         .current_dir(dir)
         // With the variable unset a panic prints a note naming it, which the
         // checks below look for.
-        .env_remove("RUST_BACKTRACE")
-        .output()
-        .expect("the lucent binary runs");
+        .env_remove("RUST_BACKTRACE");
+    command
+}
+
+fn finished(out: std::process::Output, start: Instant) -> Run {
     Run {
         code: out.status.code(),
         stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
         stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
         elapsed: start.elapsed(),
     }
+}
+
+/// Run `lucent` with `args` in `dir`.
+pub fn lucent(dir: &Path, args: &[&str]) -> Run {
+    let start = Instant::now();
+    finished(command(dir, args).output().expect("the lucent binary runs"), start)
+}
+
+/// Start `lucent` with `args` in `dir`, let it run for `after`, then send
+/// it `signal` (`INT` as Ctrl-C does, or `TERM`) and wait for it to end.
+pub fn lucent_signalled(dir: &Path, args: &[&str], signal: &str, after: Duration) -> Run {
+    use std::process::Stdio;
+    let start = Instant::now();
+    let child = command(dir, args).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("lucent starts");
+    std::thread::sleep(after);
+    let kill = Command::new("kill").args([&format!("-{signal}"), &child.id().to_string()]).status();
+    assert!(kill.is_ok_and(|s| s.success()), "kill -{signal} failed");
+    finished(child.wait_with_output().expect("lucent ends"), start)
 }
 
 /// Neither output mentions a panic or a backtrace.
