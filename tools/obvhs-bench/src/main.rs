@@ -50,7 +50,7 @@ fn main() {
         std::process::exit(1)
     };
     let arg = std::env::args().nth(1).unwrap_or_else(|| fail("usage: obvhs-bench MESH".into()));
-    let mesh = lucent::mesh::load_raybench_mesh(&arg).unwrap_or_else(|e| fail(e.to_string()));
+    let mesh = lucent::tools::load_raybench_mesh(&arg).unwrap_or_else(|e| fail(e.to_string()));
     if mesh.triangle_count() == 0 {
         fail(format!("{arg}: the mesh has no triangles"));
     }

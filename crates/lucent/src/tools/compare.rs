@@ -2,7 +2,7 @@
 //! reference image.
 //!
 //! ```no_run
-//! use lucent::film::{compare, read_image};
+//! use lucent::tools::{compare, read_image};
 //!
 //! let render = read_image("render.exr")?;
 //! let reference = read_image("reference.exr")?;
@@ -150,7 +150,8 @@ pub fn relative_squared_error(a: Color, b: Color) -> f64 {
 /// Compare image `a` with the reference `b` (see [`DiffMetrics`]).
 ///
 /// ```
-/// use lucent::film::{compare, Film};
+/// use lucent::film::Film;
+/// use lucent::tools::compare;
 /// use glam::Vec3;
 ///
 /// let reference = Film::new(2, 1)?;
