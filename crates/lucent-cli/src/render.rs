@@ -74,7 +74,10 @@ pub fn run(args: &RenderArgs, file: &SceneFile, loaded: &LoadedScene, out_path: 
     // Reserve the output now: a bad path fails before any rendering.
     let pending = PendingImage::create(out_path).map_err(|e| e.to_string())?;
     let ckpt = checkpoint_path(out_path);
-    let fp = fingerprint(file, loaded)?;
+    let keep_state = args.checkpoint_every.is_some() || args.resume;
+    // The fingerprint reads every mesh and environment file again: only
+    // when a checkpoint is written or read (or, below, on an interrupt).
+    let fp = if keep_state { fingerprint(file, loaded)? } else { 0 };
     let mut acc = if args.resume {
         if !ckpt.exists() {
             return Err(format!(
@@ -98,7 +101,6 @@ pub fn run(args: &RenderArgs, file: &SceneFile, loaded: &LoadedScene, out_path: 
         _ => settings.spp,
     };
     let resumed_at = acc.spp();
-    let keep_state = args.checkpoint_every.is_some() || args.resume;
     let (tone_map, srgb) = (settings.tone_map, settings.srgb);
 
     let bar = FractionProgress::new(args.quiet);
@@ -135,6 +137,7 @@ pub fn run(args: &RenderArgs, file: &SceneFile, loaded: &LoadedScene, out_path: 
             Ok(out) => Some(out),
             Err(RenderError::Interrupted) => {
                 bar.finish();
+                let fp = if keep_state { fp } else { fingerprint(file, loaded)? };
                 return Err(interrupted(&ckpt, &acc, fp, resumed_at));
             }
             Err(e) => return Err(e.to_string()),
