@@ -23,6 +23,9 @@ pub struct SurfaceInteraction {
     pub ns: Vec3,
     /// Texture coordinates.
     pub uv: Vec2,
+    /// ∂p/∂u in world space (not normalised): the tangent that orients
+    /// anisotropic BSDFs and bump and normal maps.
+    pub dpdu: Vec3,
     /// The surface's material.
     pub material: MaterialId,
     /// The area light this point belongs to, if the surface emits: an

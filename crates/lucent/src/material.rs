@@ -4,7 +4,7 @@
 use crate::bsdf::{Bxdf, ConductorFresnel};
 use crate::color::Color;
 use crate::geometry::{reflect, Vec2, Vec3};
-use crate::texture::Texture;
+use crate::texture::{Texture, TextureContext};
 use std::f32::consts::FRAC_1_PI;
 
 /// Index of a material in its scene; only the scene builder's
@@ -177,7 +177,7 @@ impl Material {
         };
         match self {
             Self::Classic(m) => {
-                let albedo = m.color.evaluate(uv);
+                let albedo = m.color.evaluate(&TextureContext::from_uv(uv));
                 PhongBsdf {
                     ambient: m.ka * albedo,
                     diffuse: m.kd * albedo * FRAC_1_PI,
@@ -186,7 +186,7 @@ impl Material {
                     kr: Color::splat(m.kr),
                 }
             }
-            Self::Diffuse { reflectance } => matte(reflectance.evaluate(uv), Color::ZERO),
+            Self::Diffuse { reflectance } => matte(reflectance.evaluate(&TextureContext::from_uv(uv)), Color::ZERO),
             Self::Conductor { fresnel, .. } => {
                 let r0 = match fresnel {
                     ConductorFresnel::Complex { eta, k } => {
@@ -195,13 +195,13 @@ impl Material {
                         let one = Color::ONE;
                         ((*eta - one) * (*eta - one) + *k * *k) / ((*eta + one) * (*eta + one) + *k * *k)
                     }
-                    ConductorFresnel::Schlick { r0 } => r0.evaluate(uv),
+                    ConductorFresnel::Schlick { r0 } => r0.evaluate(&TextureContext::from_uv(uv)),
                 };
                 matte(Color::ZERO, r0)
             }
             Self::Dielectric { eta, .. } => matte(Color::ZERO, Color::splat(dielectric_r0(*eta))),
             Self::Plastic { reflectance, eta, .. } => {
-                matte(reflectance.evaluate(uv), Color::splat(dielectric_r0(*eta)))
+                matte(reflectance.evaluate(&TextureContext::from_uv(uv)), Color::splat(dielectric_r0(*eta)))
             }
         }
     }
@@ -216,20 +216,24 @@ impl Material {
     pub fn bxdf(&self, uv: Vec2) -> Bxdf {
         match self {
             Self::Classic(m) => {
-                let albedo = m.kd * m.color.evaluate(uv);
+                let albedo = m.kd * m.color.evaluate(&TextureContext::from_uv(uv));
                 if m.ks == 0.0 && m.kr == 0.0 {
                     Bxdf::diffuse(albedo)
                 } else {
                     Bxdf::phong(albedo, m.ks, m.exponent, m.kr)
                 }
             }
-            Self::Diffuse { reflectance } => Bxdf::diffuse(reflectance.evaluate(uv)),
+            Self::Diffuse { reflectance } => Bxdf::diffuse(reflectance.evaluate(&TextureContext::from_uv(uv))),
             Self::Conductor { fresnel, roughness } => match fresnel {
                 ConductorFresnel::Complex { eta, k } => Bxdf::conductor(*eta, *k, *roughness),
-                ConductorFresnel::Schlick { r0 } => Bxdf::conductor_schlick(r0.evaluate(uv), *roughness),
+                ConductorFresnel::Schlick { r0 } => {
+                    Bxdf::conductor_schlick(r0.evaluate(&TextureContext::from_uv(uv)), *roughness)
+                }
             },
             Self::Dielectric { eta, roughness, tint } => Bxdf::dielectric(*eta, *roughness, *tint),
-            Self::Plastic { reflectance, eta, roughness } => Bxdf::plastic(reflectance.evaluate(uv), *eta, *roughness),
+            Self::Plastic { reflectance, eta, roughness } => {
+                Bxdf::plastic(reflectance.evaluate(&TextureContext::from_uv(uv)), *eta, *roughness)
+            }
         }
     }
 }

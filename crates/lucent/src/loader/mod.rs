@@ -14,6 +14,7 @@ mod description;
 mod locate;
 mod materials;
 mod objects;
+pub mod pbrt;
 mod values;
 
 pub use description::*;

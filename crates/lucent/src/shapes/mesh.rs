@@ -126,7 +126,16 @@ impl Mesh {
             }
             None => n,
         };
-        Some(ShapeHit { t: hit.t, p, p_error, n, ns, uv: Vec2::new(b1, b2), face: hit.triangle })
+        Some(ShapeHit {
+            t: hit.t,
+            p,
+            p_error,
+            n,
+            ns,
+            uv: Vec2::new(b1, b2),
+            dpdu: crate::geometry::coordinate_system(n).0,
+            face: hit.triangle,
+        })
     }
 
     /// Whether any triangle is hit with `0 < t < t_max`.

@@ -66,6 +66,10 @@ pub struct ShapeHit {
     pub ns: Vec3,
     /// Surface parameterisation, used by textures (see each shape).
     pub uv: Vec2,
+    /// ∂p/∂u: the surface tangent along increasing `u` (not normalised;
+    /// any tangent where the shape has no parameterisation). Shading
+    /// frames, anisotropic roughness and bump mapping are built on it.
+    pub dpdu: Vec3,
     /// Which face of a mesh was hit (0 for other shapes).
     pub face: u32,
 }

@@ -218,7 +218,16 @@ impl Sphere {
         let phi = (-local.z).atan2(local.x);
         let u = if phi < 0.0 { phi + 2.0 * PI } else { phi } / (2.0 * PI);
         let v = (local.y / self.radius).clamp(-1.0, 1.0).acos() / PI;
-        Some(ShapeHit { t, p, p_error, n, ns: n, uv: Vec2::new(u, v), face: 0 })
+        Some(ShapeHit {
+            t,
+            p,
+            p_error,
+            n,
+            ns: n,
+            uv: Vec2::new(u, v),
+            dpdu: crate::geometry::coordinate_system(n).0,
+            face: 0,
+        })
     }
 }
 

@@ -208,7 +208,16 @@ impl Triangle {
                 (n, ns)
             }
         };
-        Some(ShapeHit { t, p, p_error, n, ns, uv: Vec2::new(b1, b2), face: 0 })
+        Some(ShapeHit {
+            t,
+            p,
+            p_error,
+            n,
+            ns,
+            uv: Vec2::new(b1, b2),
+            dpdu: crate::geometry::coordinate_system(n).0,
+            face: 0,
+        })
     }
 }
 
