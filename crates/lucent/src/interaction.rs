@@ -26,6 +26,8 @@ pub struct SurfaceInteraction {
     /// ∂p/∂u in world space (not normalised): the tangent that orients
     /// anisotropic BSDFs and bump and normal maps.
     pub dpdu: Vec3,
+    /// ∂p/∂v in world space (not normalised).
+    pub dpdv: Vec3,
     /// The surface's material.
     pub material: MaterialId,
     /// The area light this point belongs to, if the surface emits: an

@@ -128,13 +128,13 @@ impl Primitive {
             None => (self.shape.intersect(ray, t_max)?, None),
             Some(t) => (self.shape.intersect(&t.ray_to_object(ray), t_max)?, Some(t)),
         };
-        let (p, p_error, n, ns, dpdu) = match t {
-            None => (hit.p, hit.p_error, hit.n, hit.ns, hit.dpdu),
+        let (p, p_error, n, ns, dpdu, dpdv) = match t {
+            None => (hit.p, hit.p_error, hit.n, hit.ns, hit.dpdu, hit.dpdv),
             Some(t) => {
                 let (p, err) = t.point_with_error(hit.p, hit.p_error);
                 let n = t.normal(hit.n).normalize();
                 let ns = if hit.ns == hit.n { n } else { t.normal(hit.ns).normalize() };
-                (p, err, n, ns, t.vector(hit.dpdu))
+                (p, err, n, ns, t.vector(hit.dpdu), t.vector(hit.dpdv))
             }
         };
         Some(SurfaceInteraction {
@@ -145,6 +145,7 @@ impl Primitive {
             ns,
             uv: hit.uv,
             dpdu,
+            dpdv,
             material: self.material_at(hit.face),
             light: match &self.face_lights {
                 None => self.area_light.map(|first| first + hit.face),

@@ -134,6 +134,7 @@ impl Mesh {
             ns,
             uv: Vec2::new(b1, b2),
             dpdu: crate::geometry::coordinate_system(n).0,
+            dpdv: crate::geometry::coordinate_system(n).1,
             face: hit.triangle,
         })
     }

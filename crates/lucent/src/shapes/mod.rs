@@ -70,6 +70,8 @@ pub struct ShapeHit {
     /// any tangent where the shape has no parameterisation). Shading
     /// frames, anisotropic roughness and bump mapping are built on it.
     pub dpdu: Vec3,
+    /// ∂p/∂v: the surface tangent along increasing `v` (not normalised).
+    pub dpdv: Vec3,
     /// Which face of a mesh was hit (0 for other shapes).
     pub face: u32,
 }

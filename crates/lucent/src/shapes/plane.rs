@@ -55,7 +55,17 @@ impl Plane {
         let p_error = gamma(5) * (p.abs() + self.point.abs());
         let rel = p - self.point;
         let uv = Vec2::new(rel.dot(self.tangent_u), rel.dot(self.tangent_v));
-        Some(ShapeHit { t, p, p_error, n: self.normal, ns: self.normal, uv, dpdu: self.tangent_u, face: 0 })
+        Some(ShapeHit {
+            t,
+            p,
+            p_error,
+            n: self.normal,
+            ns: self.normal,
+            uv,
+            dpdu: self.tangent_u,
+            dpdv: self.tangent_v,
+            face: 0,
+        })
     }
 }
 

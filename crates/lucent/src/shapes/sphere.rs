@@ -226,6 +226,7 @@ impl Sphere {
             ns: n,
             uv: Vec2::new(u, v),
             dpdu: crate::geometry::coordinate_system(n).0,
+            dpdv: crate::geometry::coordinate_system(n).1,
             face: 0,
         })
     }

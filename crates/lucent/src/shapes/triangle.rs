@@ -216,6 +216,7 @@ impl Triangle {
             ns,
             uv: Vec2::new(b1, b2),
             dpdu: crate::geometry::coordinate_system(n).0,
+            dpdv: crate::geometry::coordinate_system(n).1,
             face: 0,
         })
     }
