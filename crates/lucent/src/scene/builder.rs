@@ -524,6 +524,8 @@ fn check_material(m: &Material) -> Result<(), String> {
         let colors = match t {
             Texture::Constant(c) => vec![*c],
             Texture::Checker { even, odd, .. } => vec![*even, *odd],
+            // Images and composites: known only where they are evaluated.
+            _ => Vec::new(),
         };
         if let Some(c) = colors.iter().find(|c| c.max_element() > 1.0) {
             return Err(format!(
