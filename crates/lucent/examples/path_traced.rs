@@ -24,7 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         reflectance: Texture::Checker { even: Color::splat(0.7), odd: Color::splat(0.2), scale: 1.0 },
     })?;
     let stone = b.add_material(Material::Diffuse { reflectance: Texture::Constant(Color::new(0.6, 0.55, 0.5)) })?;
-    let glass = b.add_material(Material::Dielectric { eta: 1.5, roughness: 0.0, tint: Color::ONE })?;
+    let glass = b.add_material(Material::Dielectric { eta: 1.5, roughness: 0.0.into(), tint: Color::ONE })?;
     let gold = b.add_material(Material::Plastic {
         reflectance: Texture::Constant(Color::new(0.9, 0.6, 0.1)),
         eta: 1.5,

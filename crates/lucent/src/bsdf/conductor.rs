@@ -9,10 +9,9 @@ use crate::geometry::{reflect, Vec2, Vec3};
 
 /// How a conductor's Fresnel reflectance is computed.
 ///
-/// `R` is the type of the reflectance at normal incidence of the Schlick
-/// form: a [`Color`] (the default) in a [`ConductorBxdf`], which holds the
-/// values at one point, and a `Texture` in a material's `Conductor`, which
-/// describes a whole surface.
+/// `R` is the type of the colours: a [`Color`] (the default) in a
+/// [`ConductorBxdf`], which holds the values at one point, and a `Texture`
+/// in a material's `Conductor`, which describes a whole surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ConductorFresnel<R = Color> {
     /// Exact Fresnel equations with complex index `eta + i·k` per RGB
@@ -20,9 +19,9 @@ pub enum ConductorFresnel<R = Color> {
     /// 1.603)).
     Complex {
         /// Real part of the index of refraction.
-        eta: Color,
+        eta: R,
         /// Absorption coefficient (imaginary part).
-        k: Color,
+        k: R,
     },
     /// Schlick's approximation from the reflectance (colour) at normal
     /// incidence, towards white at grazing angles.
@@ -30,6 +29,24 @@ pub enum ConductorFresnel<R = Color> {
         /// Reflectance at normal incidence.
         r0: R,
     },
+    /// pbrt-v4's "artist" conductor given by its `reflectance`: the exact
+    /// Fresnel equations with `eta = 1` and `k = 2√r / √(1 − r)`, the
+    /// index whose normal-incidence reflectance `((η−1)² + k²)/((η+1)² + k²)`
+    /// is exactly `r` (`ConductorMaterial::GetBxDF`; `r` clamped to
+    /// [0, 0.9999]).
+    Reflectance {
+        /// Reflectance at normal incidence.
+        r: R,
+    },
+}
+
+/// pbrt-v4's complex index `(eta, k) = (1, 2√r/√(1 − r))` for a conductor
+/// of normal-incidence reflectance `r` (clamped to [0, 0.9999]).
+pub fn reflectance_to_complex_ior(r: Color) -> (Color, Color) {
+    let r = r.clamp(Color::ZERO, Color::splat(0.9999));
+    let k = 2.0 * Color::new(r.x.sqrt(), r.y.sqrt(), r.z.sqrt())
+        / Color::new((1.0 - r.x).sqrt(), (1.0 - r.y).sqrt(), (1.0 - r.z).sqrt());
+    (Color::ONE, k)
 }
 
 impl ConductorFresnel {
@@ -39,6 +56,10 @@ impl ConductorFresnel {
         match *self {
             Self::Complex { eta, k } => fr_conductor(cos_theta.abs(), eta, k),
             Self::Schlick { r0 } => fr_schlick(cos_theta, r0),
+            Self::Reflectance { r } => {
+                let (eta, k) = reflectance_to_complex_ior(r);
+                fr_conductor(cos_theta.abs(), eta, k)
+            }
         }
     }
 }
@@ -131,5 +152,10 @@ impl BxDF for ConductorBxdf {
     #[inline]
     fn is_specular(&self) -> bool {
         self.distrib.effectively_smooth()
+    }
+
+    /// Widen a near-mirror (see [`TrowbridgeReitz::regularize`]).
+    fn regularize(&mut self) {
+        self.distrib.regularize();
     }
 }

@@ -5,7 +5,7 @@
 
 use super::fresnel::fr_dielectric;
 use super::microfacet::TrowbridgeReitz;
-use super::{same_hemisphere, BsdfSample, BxDF};
+use super::{same_hemisphere, BsdfSample, BxDF, Lobes, TransportMode};
 use crate::color::Color;
 use crate::geometry::{reflect, refract, Vec2, Vec3};
 
@@ -38,6 +38,13 @@ pub struct DielectricBxdf {
 }
 
 impl DielectricBxdf {
+    /// A dielectric of relative index `eta` (non-positive or NaN: 1) with
+    /// roughness `distrib` and transmission `tint`.
+    pub fn new(eta: f32, distrib: TrowbridgeReitz, tint: Color) -> Self {
+        let eta = if eta > 0.0 && eta.is_finite() { eta } else { 1.0 };
+        Self { eta, distrib, tint }
+    }
+
     /// The generalised half vector of `(wo, wi)`, facing `+z`, with `η'`;
     /// `None` for degenerate pairs and for back-facing microfacets (those
     /// `wo` or `wi` would see from behind, which contribute nothing).
@@ -69,18 +76,21 @@ impl DielectricBxdf {
     }
 
     /// Walter et al.'s transmission term without tint, given the half
-    /// vector.
-    fn ft(&self, wo: Vec3, wi: Vec3, wm: Vec3, etap: f32, t: f32) -> f32 {
+    /// vector; the radiance compression `1/η'²` only for `mode` radiance.
+    fn ft(&self, wo: Vec3, wi: Vec3, wm: Vec3, etap: f32, t: f32, mode: TransportMode) -> f32 {
         let (dwi, dwo) = (wi.dot(wm), wo.dot(wm));
         let denom = (dwi + dwo / etap) * (dwi + dwo / etap) * wi.z * wo.z;
         let ft = self.distrib.d(wm) * t * self.distrib.g(wo, wi) * (dwi * dwo / denom).abs();
-        ft / (etap * etap)
+        match mode {
+            TransportMode::Radiance => ft / (etap * etap),
+            TransportMode::Importance => ft,
+        }
     }
-}
 
-impl BxDF for DielectricBxdf {
-    /// BSDF value (0 when smooth).
-    fn f(&self, wo: Vec3, wi: Vec3) -> Color {
+    /// The BSDF for transport `mode` (PBRT-v4's `DielectricBxDF::f`): for
+    /// importance transport the transmission is not scaled by `1/η'²`
+    /// (PBRT 4th ed., §9.5.2); the layered BxDFs need both.
+    pub(crate) fn f_mode(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Color {
         if self.is_specular() {
             return Color::ZERO;
         }
@@ -92,40 +102,67 @@ impl BxDF for DielectricBxdf {
             let v = self.distrib.d(wm) * self.distrib.g(wo, wi) * r / (4.0 * wi.z * wo.z).abs();
             Color::splat(v)
         } else {
-            self.tint * self.ft(wo, wi, wm, etap, 1.0 - r)
+            self.tint * self.ft(wo, wi, wm, etap, 1.0 - r, mode)
         }
     }
 
-    /// Sample reflection or transmission, each with its Fresnel
-    /// probability.
-    fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
+    /// Sample reflection and/or transmission as `lobes` allows, with
+    /// probabilities proportional to their Fresnel weights among the
+    /// allowed lobes (PBRT-v4's `Sample_f` with `BxDFReflTransFlags`).
+    pub(crate) fn sample_f_mode(
+        &self,
+        wo: Vec3,
+        uc: f32,
+        u: Vec2,
+        mode: TransportMode,
+        lobes: Lobes,
+    ) -> Option<BsdfSample> {
         if wo.z == 0.0 {
             return None;
         }
+        let scale = |etap: f32| match mode {
+            TransportMode::Radiance => 1.0 / (etap * etap),
+            TransportMode::Importance => 1.0,
+        };
         if self.is_specular() {
             let r = if self.eta == 1.0 { 0.0 } else { fr_dielectric(wo.z, self.eta) };
             let t = 1.0 - r;
-            if uc < r {
+            let (pr, pt) = lobes.weights(r, t);
+            if pr + pt <= 0.0 {
+                return None;
+            }
+            if uc < pr / (pr + pt) {
                 let wi = Vec3::new(-wo.x, -wo.y, wo.z);
                 let f = Color::splat(r / wi.z.abs());
-                return Some(BsdfSample { f, wi, pdf: r, specular: true, transmission: false, eta: 1.0 });
+                return Some(BsdfSample {
+                    f,
+                    wi,
+                    pdf: pr / (pr + pt),
+                    specular: true,
+                    transmission: false,
+                    eta: 1.0,
+                });
             }
             let (wi, etap) = refract(wo, Vec3::Z, self.eta)?;
             if wi.z == 0.0 || t <= 0.0 {
                 return None;
             }
-            let f = self.tint * (t / wi.z.abs() / (etap * etap));
-            return Some(BsdfSample { f, wi, pdf: t, specular: true, transmission: true, eta: etap });
+            let f = self.tint * (t / wi.z.abs() * scale(etap));
+            return Some(BsdfSample { f, wi, pdf: pt / (pr + pt), specular: true, transmission: true, eta: etap });
         }
         let wm = self.distrib.sample_wm(wo, u);
         let r = fr_dielectric(wo.dot(wm), self.eta);
         let t = 1.0 - r;
-        if uc < r {
+        let (pr, pt) = lobes.weights(r, t);
+        if pr + pt <= 0.0 {
+            return None;
+        }
+        if uc < pr / (pr + pt) {
             let wi = reflect(wo, wm);
             if !same_hemisphere(wo, wi) {
                 return None;
             }
-            let pdf = self.distrib.d_visible(wo, wm) / (4.0 * wo.dot(wm).abs()) * r;
+            let pdf = self.distrib.d_visible(wo, wm) / (4.0 * wo.dot(wm).abs()) * pr / (pr + pt);
             let v = self.distrib.d(wm) * self.distrib.g(wo, wi) * r / (4.0 * wi.z * wo.z).abs();
             if pdf <= 0.0 || !pdf.is_finite() || !v.is_finite() {
                 return None;
@@ -138,8 +175,8 @@ impl BxDF for DielectricBxdf {
             }
             let (dwi, dwo) = (wi.dot(wm), wo.dot(wm));
             let dwm_dwi = dwi.abs() / ((dwi + dwo / etap) * (dwi + dwo / etap));
-            let pdf = self.distrib.d_visible(wo, wm) * dwm_dwi * t;
-            let f = self.tint * self.ft(wo, wi, wm, etap, t);
+            let pdf = self.distrib.d_visible(wo, wm) * dwm_dwi * pt / (pr + pt);
+            let f = self.tint * self.ft(wo, wi, wm, etap, t, mode);
             if pdf <= 0.0 || !pdf.is_finite() || !f.is_finite() {
                 return None;
             }
@@ -147,8 +184,9 @@ impl BxDF for DielectricBxdf {
         }
     }
 
-    /// Solid-angle pdf of [`DielectricBxdf::sample_f`] (0 when smooth).
-    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    /// The pdf of [`DielectricBxdf::sample_f_mode`] restricted to `lobes`
+    /// (0 when smooth).
+    pub(crate) fn pdf_lobes(&self, wo: Vec3, wi: Vec3, lobes: Lobes) -> f32 {
         if self.is_specular() {
             return 0.0;
         }
@@ -156,18 +194,45 @@ impl BxDF for DielectricBxdf {
             return 0.0;
         };
         let r = fr_dielectric(wo.dot(wm), self.eta);
+        let (pr, pt) = lobes.weights(r, 1.0 - r);
+        if pr + pt <= 0.0 {
+            return 0.0;
+        }
         if is_reflection {
-            self.distrib.d_visible(wo, wm) / (4.0 * wo.dot(wm).abs()) * r
+            self.distrib.d_visible(wo, wm) / (4.0 * wo.dot(wm).abs()) * pr / (pr + pt)
         } else {
             let (dwi, dwo) = (wi.dot(wm), wo.dot(wm));
             let dwm_dwi = dwi.abs() / ((dwi + dwo / etap) * (dwi + dwo / etap));
-            self.distrib.d_visible(wo, wm) * dwm_dwi * (1.0 - r)
+            self.distrib.d_visible(wo, wm) * dwm_dwi * pt / (pr + pt)
         }
+    }
+}
+
+impl BxDF for DielectricBxdf {
+    /// BSDF value (0 when smooth).
+    fn f(&self, wo: Vec3, wi: Vec3) -> Color {
+        self.f_mode(wo, wi, TransportMode::Radiance)
+    }
+
+    /// Sample reflection or transmission, each with its Fresnel
+    /// probability.
+    fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
+        self.sample_f_mode(wo, uc, u, TransportMode::Radiance, Lobes::ALL)
+    }
+
+    /// Solid-angle pdf of [`DielectricBxdf::sample_f`] (0 when smooth).
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.pdf_lobes(wo, wi, Lobes::ALL)
     }
 
     /// Whether reflection and refraction are both delta lobes.
     #[inline]
     fn is_specular(&self) -> bool {
         self.eta == 1.0 || self.distrib.effectively_smooth()
+    }
+
+    /// Widen a near-specular interface (see [`TrowbridgeReitz::regularize`]).
+    fn regularize(&mut self) {
+        self.distrib.regularize();
     }
 }

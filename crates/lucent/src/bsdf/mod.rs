@@ -25,10 +25,17 @@
 //!
 //! The BxDFs, one file each: [`DiffuseBxdf`] (Lambert), [`ConductorBxdf`]
 //! (mirror or GGX Torrance–Sparrow), [`DielectricBxdf`] (smooth or rough
-//! glass after Walter et al. 2007), [`PlasticBxdf`] (diffuse under a
-//! dielectric coat, after Weidlich & Wilkie 2007) and [`PhongBxdf`] (the
-//! classic model made energy conserving), built on [`fresnel`] and the GGX
-//! distribution of [`microfacet`].
+//! glass after Walter et al. 2007), [`ThinDielectricBxdf`] (a thin pane),
+//! [`DiffuseTransmissionBxdf`] (Lambertian reflection and transmission),
+//! [`PlasticBxdf`] (diffuse under a dielectric coat, after Weidlich &
+//! Wilkie 2007), the stochastic layered BxDFs [`CoatedDiffuseBxdf`] and
+//! [`CoatedConductorBxdf`] (PBRT-v4's `LayeredBxDF`) and [`PhongBxdf`] (the
+//! classic model made energy conserving), built on [`fresnel`] and the
+//! anisotropic GGX distribution of [`microfacet`].
+//!
+//! Anisotropic roughness is oriented by the local frame: `x` is the
+//! surface's ∂p/∂u made orthogonal to the shading normal (see
+//! [`Bsdf::new`]).
 //!
 //! A lobe is treated as a delta when its GGX `α < 1e-3`
 //! ([`microfacet::SMOOTH_ALPHA`]). All BxDFs return no sample for a `wo`
@@ -37,19 +44,25 @@
 mod conductor;
 mod dielectric;
 mod diffuse;
+mod diffuse_transmission;
 pub mod fresnel;
+mod layered;
 pub mod microfacet;
 mod phong;
 mod plastic;
 #[cfg(test)]
 mod tests;
+mod thin_dielectric;
 
-pub use conductor::{ConductorBxdf, ConductorFresnel};
+pub use conductor::{reflectance_to_complex_ior, ConductorBxdf, ConductorFresnel};
 pub use dielectric::DielectricBxdf;
 pub use diffuse::DiffuseBxdf;
-pub use microfacet::TrowbridgeReitz;
+pub use diffuse_transmission::DiffuseTransmissionBxdf;
+pub use layered::{CoatedConductorBxdf, CoatedDiffuseBxdf, LayeredBxdf};
+pub use microfacet::{roughness_to_alpha, TrowbridgeReitz};
 pub use phong::PhongBxdf;
 pub use plastic::PlasticBxdf;
+pub use thin_dielectric::ThinDielectricBxdf;
 
 use crate::color::Color;
 use crate::geometry::{Frame, Vec2, Vec3};
@@ -96,6 +109,48 @@ pub trait BxDF {
 
     /// Whether every lobe is a delta: light sampling cannot help.
     fn is_specular(&self) -> bool;
+
+    /// Roughen near-specular lobes (PBRT-v4's `Regularize`, used by the
+    /// path integrator's `regularize` option after the first non-specular
+    /// bounce; see [`TrowbridgeReitz::regularize`]). BxDFs without a
+    /// microfacet lobe are unchanged.
+    fn regularize(&mut self) {}
+}
+
+/// Which quantity a BSDF transports (PBRT 4th ed., §9.5.2): radiance
+/// (from lights to the camera, the only mode of the integrators) or
+/// importance (its adjoint). They differ in the `1/η²` scaling of
+/// refraction; the layered BxDFs need the adjoint for the directions they
+/// sample from `wi`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum TransportMode {
+    /// Radiance: refraction scales by `1/η'²`.
+    Radiance,
+    /// Importance: no scaling.
+    Importance,
+}
+
+/// Which lobes a restricted sample may come from (PBRT-v4's
+/// `BxDFReflTransFlags`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Lobes {
+    reflection: bool,
+    transmission: bool,
+}
+
+impl Lobes {
+    /// Both.
+    pub(crate) const ALL: Self = Self { reflection: true, transmission: true };
+    /// Reflection only.
+    pub(crate) const REFLECTION: Self = Self { reflection: true, transmission: false };
+    /// Transmission only.
+    pub(crate) const TRANSMISSION: Self = Self { reflection: false, transmission: true };
+
+    /// The lobe weights `(r, t)` with the excluded ones set to 0.
+    #[inline]
+    pub(crate) fn weights(self, r: f32, t: f32) -> (f32, f32) {
+        (if self.reflection { r } else { 0.0 }, if self.transmission { t } else { 0.0 })
+    }
 }
 
 /// A scattering function in the local shading frame: one of the BxDFs of
@@ -114,6 +169,15 @@ pub enum Bxdf {
     Plastic(PlasticBxdf),
     /// The energy-conserving classic Phong model.
     Phong(PhongBxdf),
+    /// A thin dielectric slab: specular reflection and straight
+    /// transmission.
+    ThinDielectric(ThinDielectricBxdf),
+    /// Lambertian reflection and transmission.
+    DiffuseTransmission(DiffuseTransmissionBxdf),
+    /// A diffuse base under a dielectric coat, evaluated stochastically.
+    CoatedDiffuse(CoatedDiffuseBxdf),
+    /// A conductor under a dielectric coat, evaluated stochastically.
+    CoatedConductor(CoatedConductorBxdf),
 }
 
 impl Bxdf {
@@ -145,8 +209,18 @@ impl Bxdf {
     /// roughness `alpha` (0: smooth). `tint` scales transmitted light.
     /// A non-positive or NaN `eta` is taken as 1 (an invisible interface).
     pub fn dielectric(eta: f32, alpha: f32, tint: Color) -> Self {
+        Self::Dielectric(DielectricBxdf::new(eta, TrowbridgeReitz::new(alpha), tint))
+    }
+
+    /// A thin dielectric slab of index `eta` (non-positive or NaN: 1).
+    pub fn thin_dielectric(eta: f32) -> Self {
         let eta = if eta > 0.0 && eta.is_finite() { eta } else { 1.0 };
-        Self::Dielectric(DielectricBxdf { eta, distrib: TrowbridgeReitz::new(alpha), tint })
+        Self::ThinDielectric(ThinDielectricBxdf { eta })
+    }
+
+    /// Lambertian reflectance `r` and transmittance `t`.
+    pub fn diffuse_transmission(r: Color, t: Color) -> Self {
+        Self::DiffuseTransmission(DiffuseTransmissionBxdf { r, t })
     }
 
     /// A diffuse base of albedo `diffuse` under a dielectric coat of index
@@ -173,6 +247,10 @@ impl BxDF for Bxdf {
             Self::Dielectric(b) => b.f(wo, wi),
             Self::Plastic(b) => b.f(wo, wi),
             Self::Phong(b) => b.f(wo, wi),
+            Self::ThinDielectric(b) => b.f(wo, wi),
+            Self::DiffuseTransmission(b) => b.f(wo, wi),
+            Self::CoatedDiffuse(b) => b.f(wo, wi),
+            Self::CoatedConductor(b) => b.f(wo, wi),
         }
     }
 
@@ -186,6 +264,10 @@ impl BxDF for Bxdf {
             Self::Dielectric(b) => b.sample_f(wo, uc, u),
             Self::Plastic(b) => b.sample_f(wo, uc, u),
             Self::Phong(b) => b.sample_f(wo, uc, u),
+            Self::ThinDielectric(b) => b.sample_f(wo, uc, u),
+            Self::DiffuseTransmission(b) => b.sample_f(wo, uc, u),
+            Self::CoatedDiffuse(b) => b.sample_f(wo, uc, u),
+            Self::CoatedConductor(b) => b.sample_f(wo, uc, u),
         }
     }
 
@@ -198,6 +280,10 @@ impl BxDF for Bxdf {
             Self::Dielectric(b) => b.pdf(wo, wi),
             Self::Plastic(b) => b.pdf(wo, wi),
             Self::Phong(b) => b.pdf(wo, wi),
+            Self::ThinDielectric(b) => b.pdf(wo, wi),
+            Self::DiffuseTransmission(b) => b.pdf(wo, wi),
+            Self::CoatedDiffuse(b) => b.pdf(wo, wi),
+            Self::CoatedConductor(b) => b.pdf(wo, wi),
         }
     }
 
@@ -210,6 +296,22 @@ impl BxDF for Bxdf {
             Self::Dielectric(b) => b.is_specular(),
             Self::Plastic(b) => b.is_specular(),
             Self::Phong(b) => b.is_specular(),
+            Self::ThinDielectric(b) => b.is_specular(),
+            Self::DiffuseTransmission(b) => b.is_specular(),
+            Self::CoatedDiffuse(b) => b.is_specular(),
+            Self::CoatedConductor(b) => b.is_specular(),
+        }
+    }
+
+    /// Roughen near-specular lobes.
+    fn regularize(&mut self) {
+        match self {
+            Self::Black | Self::Diffuse(_) | Self::Phong(_) | Self::ThinDielectric(_) | Self::DiffuseTransmission(_) => {}
+            Self::Conductor(b) => b.regularize(),
+            Self::Dielectric(b) => b.regularize(),
+            Self::Plastic(b) => b.regularize(),
+            Self::CoatedDiffuse(b) => b.regularize(),
+            Self::CoatedConductor(b) => b.regularize(),
         }
     }
 }
@@ -252,9 +354,30 @@ pub struct Bsdf {
 }
 
 impl Bsdf {
-    /// `bxdf` on a surface with unit shading normal `ns`.
-    pub fn new(ns: Vec3, bxdf: Bxdf) -> Self {
+    /// `bxdf` on a surface with unit shading normal `ns` and tangent
+    /// `dpdu` (∂p/∂u, any length): the local `x` axis is `dpdu` made
+    /// orthogonal to `ns` by Gram–Schmidt, `y = ns × x`, so anisotropic
+    /// roughness follows the surface's `u` direction (PBRT-v4's
+    /// `BSDF(ns, dpdus)`). A `dpdu` that is zero, not finite or parallel to
+    /// `ns` falls back to an arbitrary tangent ([`Bsdf::from_normal`]).
+    pub fn new(ns: Vec3, dpdu: Vec3, bxdf: Bxdf) -> Self {
+        Self { frame: shading_frame(ns, dpdu), bxdf }
+    }
+
+    /// `bxdf` on a surface with unit shading normal `ns` and an arbitrary
+    /// tangent: enough for isotropic BxDFs.
+    pub fn from_normal(ns: Vec3, bxdf: Bxdf) -> Self {
         Self { frame: Frame::from_z(ns), bxdf }
+    }
+
+    /// The shading frame (`z` is the shading normal).
+    pub fn frame(&self) -> &Frame {
+        &self.frame
+    }
+
+    /// Roughen near-specular lobes (see [`BxDF::regularize`]).
+    pub fn regularize(&mut self) {
+        self.bxdf.regularize();
     }
 
     /// The BxDF.
@@ -287,4 +410,18 @@ impl Bsdf {
     pub fn is_specular(&self) -> bool {
         self.bxdf.is_specular()
     }
+}
+
+/// The orthonormal frame with normal `ns` and first tangent `dpdu` made
+/// orthogonal to it (Gram–Schmidt), or an arbitrary tangent when `dpdu` is
+/// unusable.
+pub fn shading_frame(ns: Vec3, dpdu: Vec3) -> Frame {
+    let x = dpdu - ns * ns.dot(dpdu);
+    let len2 = x.length_squared();
+    // Reject tangents (nearly) parallel to ns: their direction is noise.
+    if !(len2 > 1e-12 * dpdu.length_squared()) || !len2.is_finite() || len2 == 0.0 {
+        return Frame::from_z(ns);
+    }
+    let x = x / len2.sqrt();
+    Frame { x, y: ns.cross(x), z: ns }
 }

@@ -168,6 +168,13 @@ impl BxDF for PlasticBxdf {
     fn is_specular(&self) -> bool {
         false
     }
+
+    /// Widen a near-smooth coat (see [`TrowbridgeReitz::regularize`]).
+    fn regularize(&mut self) {
+        let mut distrib = self.distrib;
+        distrib.regularize();
+        *self = PlasticBxdf::new(self.diffuse, self.eta, distrib);
+    }
 }
 
 const ETA_MIN: f32 = 1.0;

@@ -1,9 +1,10 @@
 use super::{Integrator, RayStats};
 use crate::bsdf::Bsdf;
 use crate::color::Color;
-use crate::geometry::Ray;
+use crate::geometry::{Ray, Vec3};
 use crate::interaction::SurfaceInteraction;
 use crate::light::{Emitter, LightSampleContext};
+use crate::material::{Material, MaterialContext};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -38,12 +39,86 @@ use crate::scene::Scene;
 ///
 /// [`DirectLighting`] can switch one of the two techniques off, to check
 /// that each alone converges to the same image (the renderer uses MIS).
+///
+/// Materials are resolved at each hit ([`Material::bsdf_at`]): a `Mix`
+/// picks one of its materials, bump and normal maps set the shading frame,
+/// and an `Interface` (no surface) is skipped: the ray continues from the
+/// hit in the same direction without counting a bounce, at most 100 times
+/// in a row (pbrt-v4's `SkipIntersection`).
+/// Shadow rays pass through interfaces too, as in pbrt-v4's default
+/// `volpath` integrator, whose transmittance rays stop only at surfaces
+/// with a material (pbrt-v4's plain `path` integrator uses `IntersectP`,
+/// for which interfaces occlude; that makes lights behind a medium
+/// boundary reachable only by BSDF sampling, and point lights not at all).
+/// Emission found after skipping an interface is weighted as if the
+/// interface were not there.
+///
+/// With `regularize` (pbrt-v4's option of the same name), after the first
+/// non-specular bounce every BSDF is regularised
+/// ([`Bsdf::regularize`]): near-specular lobes are widened, which trades
+/// bias for much less noise in caustics.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PathIntegrator {
     /// Most scattering events along a path (1: direct light only).
     pub max_depth: u32,
     /// How light is found at each vertex.
     pub direct: DirectLighting,
+    /// Whether near-specular lobes are roughened after the first
+    /// non-specular bounce (default false).
+    pub regularize: bool,
+}
+
+/// Most interfaces a ray passes through in a row before the path (or, for
+/// a shadow ray, the light) is given up: a guard against rays trapped by
+/// numerical trouble; real scenes need a few.
+pub(crate) const MAX_INTERFACE_SKIPS: u32 = 100;
+
+/// The material's view of a hit seen from `wo` (unit).
+#[inline]
+pub(super) fn material_context(si: &SurfaceInteraction, wo: Vec3) -> MaterialContext {
+    MaterialContext { p: si.p, n: si.n, ns: si.ns, uv: si.uv, dpdu: si.dpdu, dpdv: si.dpdv, wo }
+}
+
+/// Whether a scene has materials that may resolve to an interface (an
+/// `Interface`, or a `Mix` or `Shaded` that may contain one): only then do
+/// shadow rays need more than one visibility test.
+pub(super) fn may_have_interfaces(scene: &Scene) -> bool {
+    scene.materials().iter().any(|m| matches!(m, Material::Interface | Material::Mix { .. } | Material::Shaded { .. }))
+}
+
+/// Whether a shadow ray from `si` to the point `target` (or, without one,
+/// in direction `dir` to infinity) is blocked by a surface, passing
+/// through interfaces. `interfaces` caches [`may_have_interfaces`] for the
+/// scene (computed on first need).
+pub(super) fn occluded(
+    scene: &Scene,
+    si: &SurfaceInteraction,
+    target: Option<Vec3>,
+    dir: Vec3,
+    interfaces: &mut Option<bool>,
+) -> bool {
+    let (mut ray, mut t_max) = match target {
+        Some(p) => si.spawn_ray_to(p),
+        None => (si.spawn_ray(dir), f32::INFINITY),
+    };
+    if !scene.intersect_p(&ray, t_max) {
+        return false;
+    }
+    if !*interfaces.get_or_insert_with(|| may_have_interfaces(scene)) {
+        return true;
+    }
+    for _ in 0..MAX_INTERFACE_SKIPS {
+        let Some(hit) = scene.intersect(&ray, t_max) else { return false };
+        let ctx = material_context(&hit, -ray.dir.normalize());
+        if !scene.material(hit.material).passes_through(&ctx, scene.materials()) {
+            return true;
+        }
+        (ray, t_max) = match target {
+            Some(p) => hit.spawn_ray_to(p),
+            None => (hit.spawn_ray(dir), f32::INFINITY),
+        };
+    }
+    true
 }
 
 /// How a path finds light at a vertex: by sampling a light (next-event
@@ -67,7 +142,12 @@ pub enum DirectLighting {
 impl PathIntegrator {
     /// A path tracer with multiple importance sampling.
     pub fn new(max_depth: u32) -> Self {
-        Self { max_depth, direct: DirectLighting::Mis }
+        Self { max_depth, direct: DirectLighting::Mis, regularize: false }
+    }
+
+    /// This integrator with pbrt-v4's `regularize` option set to `on`.
+    pub fn with_regularize(self, on: bool) -> Self {
+        Self { regularize: on, ..self }
     }
 
     /// The weight of light reached by a BSDF-sampled ray after a
@@ -115,6 +195,9 @@ impl Integrator for PathIntegrator {
         // Whether the last bounce was from a delta lobe (no MIS possible),
         // and the BSDF pdf and point of the last bounce, for MIS.
         let mut specular_bounce = false;
+        let mut any_non_specular = false;
+        let mut interfaces: Option<bool> = None;
+        let mut skips = 0u32;
         let mut prev_pdf = 0.0f32;
         let mut prev_ctx = LightSampleContext { p: camera_ray.origin, n: crate::geometry::Vec3::ZERO };
         let mut ray = Ray::new(camera_ray.origin, camera_ray.dir.normalize());
@@ -153,11 +236,25 @@ impl Integrator for PathIntegrator {
                     }
                 }
             }
+            // The material at the hit; an interface is no surface: go on
+            // through it without counting a bounce.
+            let mctx = material_context(&si, wo);
+            let Some(mut bsdf) = scene.material(si.material).bsdf_at(&mctx, scene.materials()) else {
+                skips += 1;
+                if skips > MAX_INTERFACE_SKIPS {
+                    break;
+                }
+                ray = si.spawn_ray(ray.dir);
+                continue;
+            };
+            skips = 0;
             if depth >= self.max_depth {
                 break;
             }
-
-            let bsdf = Bsdf::new(si.ns, scene.material(si.material).bxdf(si.uv));
+            if self.regularize && any_non_specular {
+                bsdf.regularize();
+            }
+            let ns = bsdf.frame().z;
             let ctx = LightSampleContext { p: si.p, n: si.n };
 
             // Next-event estimation. The dimensions are drawn even when
@@ -165,7 +262,8 @@ impl Integrator for PathIntegrator {
             let u_light = sampler.get_1d();
             let u_point = sampler.get_2d();
             if !bsdf.is_specular() && self.direct != DirectLighting::BsdfOnly {
-                radiance += beta * self.sample_light(scene, &si, &bsdf, wo, u_light, u_point, stats);
+                radiance +=
+                    beta * self.sample_light(scene, &si, &bsdf, wo, u_light, u_point, stats, &mut interfaces);
             }
 
             // Continue the path by sampling the BSDF.
@@ -176,11 +274,12 @@ impl Integrator for PathIntegrator {
             if bs.pdf <= 0.0 || bs.f.max_element() <= 0.0 {
                 break;
             }
-            beta *= bs.f * (bs.wi.dot(si.ns).abs() / bs.pdf);
+            beta *= bs.f * (bs.wi.dot(ns).abs() / bs.pdf);
             if !beta.is_finite() {
                 break;
             }
             specular_bounce = bs.specular;
+            any_non_specular |= !bs.specular;
             prev_pdf = bs.pdf;
             prev_ctx = ctx;
             if bs.transmission {
@@ -213,10 +312,11 @@ impl PathIntegrator {
         scene: &Scene,
         si: &SurfaceInteraction,
         bsdf: &Bsdf,
-        wo: crate::geometry::Vec3,
+        wo: Vec3,
         u_light: f32,
         u_point: crate::geometry::Vec2,
         stats: &mut RayStats,
+        interfaces: &mut Option<bool>,
     ) -> Color {
         let lights = scene.light_set();
         let Some((index, pmf)) = lights.sample(u_light) else { return Color::ZERO };
@@ -226,19 +326,12 @@ impl PathIntegrator {
         if ls.pdf <= 0.0 || ls.l.max_element() <= 0.0 {
             return Color::ZERO;
         }
-        let f = bsdf.f(wo, ls.wi) * ls.wi.dot(si.ns).abs();
+        let f = bsdf.f(wo, ls.wi) * ls.wi.dot(bsdf.frame().z).abs();
         if f.max_element() <= 0.0 {
             return Color::ZERO;
         }
         stats.shadow += 1;
-        let occluded = match ls.p_light {
-            Some(p) => {
-                let (shadow_ray, t_max) = si.spawn_ray_to(p);
-                scene.intersect_p(&shadow_ray, t_max)
-            }
-            None => scene.intersect_p(&si.spawn_ray(ls.wi), f32::INFINITY),
-        };
-        if occluded {
+        if occluded(scene, si, ls.p_light, ls.wi, interfaces) {
             return Color::ZERO;
         }
         let p_light = pmf * ls.pdf;

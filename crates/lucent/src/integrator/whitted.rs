@@ -1,3 +1,4 @@
+use super::path::{material_context, occluded, MAX_INTERFACE_SKIPS};
 use super::{Integrator, RayStats};
 use crate::color::Color;
 use crate::geometry::{face_forward, reflect, Ray};
@@ -19,6 +20,11 @@ use crate::scene::Scene;
 /// `max_depth` bounces; a ray that leaves the scene sees the background
 /// colour.
 ///
+/// The physically based materials are approximated by the classic model
+/// (see [`crate::material::Material::bsdf`]); `Mix` materials are resolved
+/// and bump and normal maps applied as under the path tracer, and
+/// interfaces are passed through, by camera, mirror and shadow rays alike.
+///
 /// With a single reflected ray per hit the recursion is a chain, so it is
 /// evaluated as a loop carrying the product of the `kr` factors so far (the
 /// path throughput): no stack growth, whatever the depth.
@@ -36,6 +42,8 @@ impl Integrator for WhittedIntegrator {
         let mut throughput = Color::ONE;
         let mut ray = *camera_ray;
         let mut depth = 0;
+        let mut skips = 0;
+        let mut interfaces: Option<bool> = None;
         loop {
             let Some(si) = scene.intersect(&ray, f32::INFINITY) else {
                 return radiance + throughput * scene.background();
@@ -45,10 +53,21 @@ impl Integrator for WhittedIntegrator {
             if let Some(light) = si.light {
                 radiance += throughput * scene.area_lights()[light as usize].emitted(si.p, wo);
             }
+            // Resolve the material; an interface is no surface.
+            let ctx = material_context(&si, wo);
+            let Some(resolved) = scene.material(si.material).resolve(&ctx, scene.materials()) else {
+                skips += 1;
+                if skips > MAX_INTERFACE_SKIPS {
+                    return radiance;
+                }
+                ray = si.spawn_ray(ray.dir);
+                continue;
+            };
+            skips = 0;
             // Shade the side the ray arrived on: surfaces are two-sided.
             let ng = face_forward(si.n, wo);
-            let ns = face_forward(si.ns, ng);
-            let bsdf = scene.material(si.material).bsdf(si.uv);
+            let ns = face_forward(resolved.shading.ns, ng);
+            let bsdf = resolved.material.bsdf(si.uv);
 
             let mut l = bsdf.ambient * scene.ambient();
             for light in scene.lights() {
@@ -61,14 +80,11 @@ impl Integrator for WhittedIntegrator {
                     continue;
                 }
                 stats.shadow += 1;
-                let occluded = match sample.source {
-                    LightSource::At(p) => {
-                        let (shadow_ray, t_max) = si.spawn_ray_to(p);
-                        scene.intersect_p(&shadow_ray, t_max)
-                    }
-                    LightSource::Infinite => scene.intersect_p(&si.spawn_ray(sample.wi), f32::INFINITY),
+                let target = match sample.source {
+                    LightSource::At(p) => Some(p),
+                    LightSource::Infinite => None,
                 };
-                if !occluded {
+                if !occluded(scene, &si, target, sample.wi, &mut interfaces) {
                     l += bsdf.f(wo, sample.wi, ns) * sample.li * cos;
                 }
             }

@@ -185,6 +185,7 @@ impl SceneFile {
                 None => Filter::default(),
                 Some(f) => self.filter(&f)?,
             },
+            regularize: false,
         })
     }
 

@@ -8,7 +8,7 @@ use super::SceneFile;
 use crate::bsdf::ConductorFresnel;
 use crate::color::Color;
 use crate::geometry::Vec3;
-use crate::material::Material;
+use crate::material::{Material, Roughness};
 use crate::scene::SceneError;
 use crate::texture::Texture;
 
@@ -55,10 +55,13 @@ impl SceneFile {
                     (Some(color), None, None, None) => {
                         ConductorFresnel::Schlick { r0: Texture::Constant(color.into()) }
                     }
-                    (None, Some(eta), Some(k), None) => ConductorFresnel::Complex { eta: eta.into(), k: k.into() },
+                    (None, Some(eta), Some(k), None) => ConductorFresnel::Complex {
+                        eta: Texture::Constant(eta.into()),
+                        k: Texture::Constant(k.into()),
+                    },
                     (None, None, None, Some(metal)) => {
                         let (eta, k) = metal_ior(metal);
-                        ConductorFresnel::Complex { eta, k }
+                        ConductorFresnel::Complex { eta: eta.into(), k: k.into() }
                     }
                     (None, None, None, None) => ConductorFresnel::Schlick { r0: Texture::Constant(Color::ONE) },
                     _ => {
@@ -68,12 +71,12 @@ impl SceneFile {
                         ))
                     }
                 };
-                let roughness = roughness(c.roughness);
+                let roughness = Roughness::alpha(roughness(c.roughness));
                 Ok(Material::Conductor { fresnel, roughness })
             }
             MaterialDesc::Dielectric(d) => Ok(Material::Dielectric {
                 eta: d.eta.map_or(1.5, Positive::get),
-                roughness: roughness(d.roughness),
+                roughness: Roughness::alpha(roughness(d.roughness)),
                 tint: d.tint.map_or(Color::ONE, Color::from),
             }),
             MaterialDesc::Plastic(p) => {

@@ -155,7 +155,8 @@ pub fn render_into(
             render_into_with(scene, settings, &integrator, acc, options)
         }
         IntegratorKind::Path => {
-            render_into_with(scene, settings, &PathIntegrator::new(settings.max_depth), acc, options)
+            let integrator = PathIntegrator::new(settings.max_depth).with_regularize(settings.regularize);
+            render_into_with(scene, settings, &integrator, acc, options)
         }
     }
 }

@@ -24,6 +24,10 @@ pub struct RenderSettings {
     pub sampler: SamplerKind,
     /// Pixel reconstruction filter.
     pub filter: Filter,
+    /// pbrt-v4's `regularize` option of the path integrator: roughen
+    /// near-specular lobes after the first non-specular bounce (default
+    /// false; the Whitted integrator ignores it).
+    pub regularize: bool,
 }
 
 /// The light transport algorithms.
@@ -58,7 +62,8 @@ impl IntegratorKind {
 
 impl RenderSettings {
     /// The defaults of `integrator`: 16 samples per pixel, its own depth
-    /// and sampler, a box filter, classic tone mapping, sRGB output, seed 0.
+    /// and sampler, a box filter, classic tone mapping, sRGB output, seed 0,
+    /// no regularisation.
     pub fn for_integrator(integrator: IntegratorKind) -> Self {
         Self {
             spp: 16,
@@ -69,6 +74,7 @@ impl RenderSettings {
             integrator,
             sampler: integrator.default_sampler(),
             filter: Filter::default(),
+            regularize: false,
         }
     }
 }

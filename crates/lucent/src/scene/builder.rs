@@ -508,24 +508,66 @@ fn check_color(what: &str, c: Color) -> Result<Color, SceneError> {
 }
 
 /// The path tracer's materials must conserve energy: albedos at most 1 and
-/// GGX roughness from 0 to 1.
+/// GGX roughness from 0 to 1 (where textures are constant; the BxDFs clamp
+/// varying albedos to [0, 1]). A diffuse transmitter's reflectance and
+/// transmittance are each checked (after `scale`), not their sum, as pbrt-v4
+/// accepts any pair.
 fn check_material(m: &Material) -> Result<(), String> {
-    let (albedo, roughness) = match m {
-        Material::Classic(_) => (None, None),
-        Material::Diffuse { reflectance } => (Some(reflectance), None),
-        Material::Conductor { fresnel, roughness } => match fresnel {
-            ConductorFresnel::Schlick { r0: t } => (Some(t), Some(*roughness)),
-            ConductorFresnel::Complex { .. } => (None, Some(*roughness)),
-        },
-        Material::Dielectric { roughness, .. } => (None, Some(*roughness)),
-        Material::Plastic { reflectance, roughness, .. } => (Some(reflectance), Some(*roughness)),
-    };
-    if let Some(t) = albedo {
+    use crate::material::Roughness;
+    use crate::texture::FloatTexture;
+    let mut albedos: Vec<(&Texture, f32)> = Vec::new();
+    let mut roughness: Vec<&FloatTexture> = Vec::new();
+    let mut alphas: Vec<f32> = Vec::new();
+    fn add_roughness<'a>(r: &'a Roughness, out: &mut Vec<&'a FloatTexture>) {
+        out.push(&r.u);
+        out.push(&r.v);
+    }
+    fn fresnel_albedo(f: &ConductorFresnel<Texture>) -> Option<(&Texture, f32)> {
+        match f {
+            ConductorFresnel::Schlick { r0: t } | ConductorFresnel::Reflectance { r: t } => Some((t, 1.0)),
+            ConductorFresnel::Complex { .. } => None,
+        }
+    }
+    match m {
+        Material::Classic(_) | Material::Mix { .. } | Material::Interface => {}
+        Material::Diffuse { reflectance } => albedos.push((reflectance, 1.0)),
+        Material::Conductor { fresnel, roughness: r } => {
+            albedos.extend(fresnel_albedo(fresnel));
+            add_roughness(r, &mut roughness);
+        }
+        Material::Dielectric { roughness: r, .. } => add_roughness(r, &mut roughness),
+        Material::Plastic { reflectance, roughness: r, .. } => {
+            albedos.push((reflectance, 1.0));
+            alphas.push(*r);
+        }
+        Material::ThinDielectric { .. } => {}
+        Material::DiffuseTransmission { reflectance, transmittance, scale } => {
+            if !(scale.is_finite() && *scale >= 0.0) {
+                return Err(format!("scale must be a finite number ≥ 0, got {scale}"));
+            }
+            albedos.push((reflectance, *scale));
+            albedos.push((transmittance, *scale));
+        }
+        Material::CoatedDiffuse(c) => {
+            albedos.push((&c.reflectance, 1.0));
+            albedos.push((&c.albedo, 1.0));
+            add_roughness(&c.roughness, &mut roughness);
+        }
+        Material::CoatedConductor(c) => {
+            albedos.extend(fresnel_albedo(&c.conductor));
+            albedos.push((&c.albedo, 1.0));
+            add_roughness(&c.interface_roughness, &mut roughness);
+            add_roughness(&c.conductor_roughness, &mut roughness);
+        }
+        Material::Shaded { material, .. } => return check_material(material),
+    }
+    for (t, scale) in albedos {
+        #[allow(unreachable_patterns)]
         let colors = match t {
-            Texture::Constant(c) => vec![*c],
-            Texture::Checker { even, odd, .. } => vec![*even, *odd],
-            // Images and composites: known only where they are evaluated.
-            _ => Vec::new(),
+            Texture::Constant(c) => vec![*c * scale],
+            Texture::Checker { even, odd, .. } => vec![*even * scale, *odd * scale],
+            // Other textures vary; the BxDFs clamp them.
+            _ => vec![],
         };
         if let Some(c) = colors.iter().find(|c| c.max_element() > 1.0) {
             return Err(format!(
@@ -534,7 +576,13 @@ fn check_material(m: &Material) -> Result<(), String> {
             ));
         }
     }
-    if let Some(r) = roughness {
+    for t in roughness {
+        #[allow(irrefutable_let_patterns)]
+        if let FloatTexture::Constant(r) = t {
+            alphas.push(*r);
+        }
+    }
+    for r in alphas {
         if !(0.0..=1.0).contains(&r) {
             return Err(format!("roughness must be from 0 (smooth) to 1, got {r}"));
         }
