@@ -24,7 +24,7 @@
 //! formats, the line; they never panic on bad input and check the sizes a
 //! file declares against its length before allocating anything.
 
-use crate::geometry::{Bounds3, Vec3};
+use crate::geometry::{Bounds3, Vec2, Vec3};
 use std::path::{Path, PathBuf};
 
 mod normals;
@@ -101,6 +101,14 @@ pub struct TriangleMesh {
     pub material_ids: Option<Vec<u32>>,
     /// The file's own materials.
     pub materials: Vec<MeshMaterial>,
+    /// Per-vertex texture coordinates, one per position, if the file has
+    /// them. A mesh without them is parameterised per triangle (see
+    /// `shapes::Mesh`).
+    pub uvs: Option<Vec<Vec2>>,
+    /// Per-triangle face index (PLY's `face_indices`, pbrt-v4's ptex face
+    /// ids), one per triangle: both triangles of a split quad carry the
+    /// quad's value.
+    pub face_indices: Option<Vec<u32>>,
 }
 
 impl TriangleMesh {
@@ -124,6 +132,18 @@ impl TriangleMesh {
     pub fn triangle(&self, i: usize) -> [Vec3; 3] {
         let [a, b, c] = self.indices[i];
         [self.positions[a as usize], self.positions[b as usize], self.positions[c as usize]]
+    }
+
+    /// Reverse the winding of every triangle (`[a, b, c]` becomes
+    /// `[a, c, b]`), which turns every geometric normal `(p₁ − p₀) × (p₂ −
+    /// p₀)` around; per-vertex normals are left alone (they are a shading
+    /// hint, and the mesh keeps its geometric normal on their side). O(n),
+    /// in place; the first corner of each triangle stays first, so
+    /// per-triangle data keeps its meaning.
+    pub fn flip_winding(&mut self) {
+        for t in &mut self.indices {
+            t.swap(1, 2);
+        }
     }
 }
 

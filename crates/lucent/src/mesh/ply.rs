@@ -630,7 +630,7 @@ fn read_body<S: Source>(header: &Header, src: &mut S, path: &Path) -> Result<Tri
         }
     }
     let normals = normals.and_then(normalized_normals);
-    Ok(TriangleMesh { positions, indices, normals, material_ids: None, materials: Vec::new() })
+    Ok(TriangleMesh { positions, indices, normals, ..Default::default() })
 }
 
 type Vertices = (Vec<Vec3>, Option<Vec<Vec3>>);
