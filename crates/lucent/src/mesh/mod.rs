@@ -151,15 +151,19 @@ impl TriangleMesh {
 const MESH_EXTENSIONS: &str = ".ply or .obj";
 
 /// Loads a mesh file, choosing the format by the extension of `path`
-/// (case-insensitive): `.ply` ([`load_ply`]) or `.obj` ([`load_obj`]).
+/// (case-insensitive): `.ply` or `.ply.gz` ([`load_ply`]) or `.obj`
+/// ([`load_obj`]).
 ///
 /// Any other extension is an error that lists the accepted ones. (A list of
 /// PLY files, which has no fixed extension, is read by `tools::load_mesh_list` or
 /// `tools::load_raybench_mesh`.)
 pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshError> {
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let gz_ply = ext.as_deref() == Some("gz")
+        && path.file_stem().is_some_and(|s| s.to_string_lossy().to_ascii_lowercase().ends_with(".ply"));
     match ext.as_deref() {
         Some("ply") => load_ply(path),
+        Some("gz") if gz_ply => load_ply(path),
         Some("obj") => load_obj(path),
         Some(other) => Err(MeshError::new(
             path,
