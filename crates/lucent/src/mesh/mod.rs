@@ -24,7 +24,7 @@
 //! formats, the line; they never panic on bad input and check the sizes a
 //! file declares against its length before allocating anything.
 
-use crate::geometry::{Bounds3, Vec3};
+use crate::geometry::{Bounds3, Vec2, Vec3};
 use std::path::{Path, PathBuf};
 
 mod normals;
@@ -101,6 +101,14 @@ pub struct TriangleMesh {
     pub material_ids: Option<Vec<u32>>,
     /// The file's own materials.
     pub materials: Vec<MeshMaterial>,
+    /// Per-vertex texture coordinates, one per position, if the file has
+    /// them. A mesh without them is parameterised per triangle (see
+    /// `shapes::Mesh`).
+    pub uvs: Option<Vec<Vec2>>,
+    /// Per-triangle face index (PLY's `face_indices`, pbrt-v4's ptex face
+    /// ids), one per triangle: both triangles of a split quad carry the
+    /// quad's value.
+    pub face_indices: Option<Vec<u32>>,
 }
 
 impl TriangleMesh {
@@ -125,21 +133,37 @@ impl TriangleMesh {
         let [a, b, c] = self.indices[i];
         [self.positions[a as usize], self.positions[b as usize], self.positions[c as usize]]
     }
+
+    /// Reverse the winding of every triangle (`[a, b, c]` becomes
+    /// `[a, c, b]`), which turns every geometric normal `(p₁ − p₀) × (p₂ −
+    /// p₀)` around; per-vertex normals are left alone (they are a shading
+    /// hint, and the mesh keeps its geometric normal on their side). O(n),
+    /// in place; the first corner of each triangle stays first, so
+    /// per-triangle data keeps its meaning.
+    pub fn flip_winding(&mut self) {
+        for t in &mut self.indices {
+            t.swap(1, 2);
+        }
+    }
 }
 
 /// The accepted extensions of [`load_mesh`], for messages.
 const MESH_EXTENSIONS: &str = ".ply or .obj";
 
 /// Loads a mesh file, choosing the format by the extension of `path`
-/// (case-insensitive): `.ply` ([`load_ply`]) or `.obj` ([`load_obj`]).
+/// (case-insensitive): `.ply` or `.ply.gz` ([`load_ply`]) or `.obj`
+/// ([`load_obj`]).
 ///
 /// Any other extension is an error that lists the accepted ones. (A list of
 /// PLY files, which has no fixed extension, is read by `tools::load_mesh_list` or
 /// `tools::load_raybench_mesh`.)
 pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshError> {
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let gz_ply = ext.as_deref() == Some("gz")
+        && path.file_stem().is_some_and(|s| s.to_string_lossy().to_ascii_lowercase().ends_with(".ply"));
     match ext.as_deref() {
         Some("ply") => load_ply(path),
+        Some("gz") if gz_ply => load_ply(path),
         Some("obj") => load_obj(path),
         Some(other) => Err(MeshError::new(
             path,

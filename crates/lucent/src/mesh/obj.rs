@@ -365,6 +365,7 @@ fn build(
         normals: if normals_ok { normalized_normals(normals) } else { None },
         material_ids: uses_materials.then_some(material_ids),
         materials,
+        ..Default::default()
     })
 }
 

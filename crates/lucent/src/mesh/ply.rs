@@ -38,15 +38,30 @@
 //! * Normals: when that element also has scalar `nx`, `ny`, `nz`, read the
 //!   same way into [`TriangleMesh::normals`] and normalized (all of them are
 //!   dropped if one is zero or not finite: they are only a shading hint).
+//! * Texture coordinates: when that element has a scalar pair `u` `v`,
+//!   `s` `t`, `texture_u` `texture_v` or `texture_s` `texture_t` (the names
+//!   pbrt-v4 accepts; the first pair present in that order is used), into
+//!   [`TriangleMesh::uvs`]. A non-finite one is an error.
 //! * Triangles: the first element named `face`, its list property
 //!   `vertex_indices` (or `vertex_index`) with integer count and index types.
 //!   A face `v0 v1 … v(n-1)` becomes the fan `(v0, vi, vi+1)`, `i = 1 … n-2`,
 //!   in that order; a face with fewer than 3 indices gives no triangle.
+//!   A quad thus becomes `(v0, v1, v2)`, `(v0, v2, v3)`, the two triangles
+//!   pbrt-v4 splits it into when it makes triangles of quads
+//!   (`TriQuadMesh::ConvertToOnlyTriangles`); pbrt ignores faces of more
+//!   than four vertices, this reader fans them too.
 //!   Degenerate triangles are kept. An index outside the file's vertices is
 //!   an error naming the face.
+//! * Face indices: a scalar integer property `face_indices` of the face
+//!   element (pbrt-v4's ptex face ids) gives every triangle of the face
+//!   that value, in [`TriangleMesh::face_indices`].
 //! * Everything else (other elements, other properties, lists anywhere) is
 //!   read past and ignored; ascii values that are read past must still be
 //!   numbers of their type.
+//!
+//! A file that starts with the gzip magic bytes (`.ply.gz`, as pbrt-v4
+//! scenes ship their meshes) is decompressed first; the sizes it declares
+//! are then checked against the decompressed data.
 //!
 //! Before anything is allocated the element counts are checked against the
 //! length of the data (every binary item takes at least the sizes of its
@@ -54,7 +69,7 @@
 //! claims 10¹² vertices fails at once with a clear message.
 
 use super::{normalized_normals, read_file, vec_with_capacity, MeshError, TriangleMesh};
-use crate::geometry::Vec3;
+use crate::geometry::{Vec2, Vec3};
 use std::path::Path;
 
 /// Loads a PLY file (ascii, binary little-endian or binary big-endian).
@@ -64,6 +79,22 @@ use std::path::Path;
 /// on a mesh without triangles.
 pub fn load_ply(path: &Path) -> Result<TriangleMesh, MeshError> {
     parse_ply(&read_file(path)?, path)
+}
+
+/// The first bytes of a gzip stream (RFC 1952, §2.3.1).
+const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
+
+/// The bytes of a PLY file, decompressed when they are a gzip stream.
+fn decompressed<'a>(bytes: &'a [u8], path: &Path) -> Result<std::borrow::Cow<'a, [u8]>, MeshError> {
+    if !bytes.starts_with(&GZIP_MAGIC) {
+        return Ok(std::borrow::Cow::Borrowed(bytes));
+    }
+    use std::io::Read;
+    let mut out = Vec::new();
+    flate2::read::MultiGzDecoder::new(bytes)
+        .read_to_end(&mut out)
+        .map_err(|e| MeshError::new(path, format!("cannot decompress the gzip data: {e}")))?;
+    Ok(std::borrow::Cow::Owned(out))
 }
 
 /// Parses the bytes of a PLY file; `path` only names the file in errors.
@@ -80,6 +111,8 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<TriangleMesh, MeshError> {
 /// [`parse_ply`] without the final check for triangles (a file of a list
 /// may have none, as long as the whole list has some).
 pub(crate) fn parse_ply_allow_empty(bytes: &[u8], path: &Path) -> Result<TriangleMesh, MeshError> {
+    let bytes = decompressed(bytes, path)?;
+    let bytes = &bytes[..];
     let header = parse_header(bytes, path)?;
     let data = &bytes[header.data_start..];
     match header.format {
@@ -616,27 +649,49 @@ fn read_error<S: Source>(
 }
 
 fn read_body<S: Source>(header: &Header, src: &mut S, path: &Path) -> Result<TriangleMesh, MeshError> {
-    let mut positions: Vec<Vec3> = Vec::new();
-    let mut normals: Option<Vec<Vec3>> = None;
-    let mut indices: Vec<[u32; 3]> = Vec::new();
+    let mut vertices = Vertices::default();
+    let mut faces = Faces::default();
     let nverts = header.elements[header.vertex].count;
     for (ei, e) in header.elements.iter().enumerate() {
         if ei == header.vertex {
-            (positions, normals) = read_vertices(e, src, path)?;
+            vertices = read_vertices(e, src, path)?;
         } else if ei == header.face {
-            indices = read_faces(e, nverts, src, path)?;
+            faces = read_faces(e, nverts, src, path)?;
         } else {
             skip_element(e, src, path)?;
         }
     }
-    let normals = normals.and_then(normalized_normals);
-    Ok(TriangleMesh { positions, indices, normals, material_ids: None, materials: Vec::new() })
+    let normals = vertices.normals.and_then(normalized_normals);
+    Ok(TriangleMesh {
+        positions: vertices.positions,
+        indices: faces.triangles,
+        normals,
+        uvs: vertices.uvs,
+        face_indices: faces.face_indices,
+        ..Default::default()
+    })
 }
 
-type Vertices = (Vec<Vec3>, Option<Vec<Vec3>>);
+/// What is read of the vertex element.
+#[derive(Default)]
+struct Vertices {
+    positions: Vec<Vec3>,
+    normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<Vec2>>,
+}
+
+/// What is read of the face element.
+#[derive(Default)]
+struct Faces {
+    triangles: Vec<[u32; 3]>,
+    face_indices: Option<Vec<u32>>,
+}
 
 fn read_vertices<S: Source>(e: &Element, src: &mut S, path: &Path) -> Result<Vertices, MeshError> {
-    const NAMES: [&str; 6] = ["x", "y", "z", "nx", "ny", "nz"];
+    // Slots 6..14: the texture coordinate pairs pbrt-v4 accepts, by preference.
+    const NAMES: [&str; 14] = [
+        "x", "y", "z", "nx", "ny", "nz", "u", "v", "s", "t", "texture_u", "texture_v", "texture_s", "texture_t",
+    ];
     // Per property: the slot (x, y, z, nx, ny, nz) it is stored in, if any.
     let slots: Vec<Option<(usize, Scalar)>> = e
         .props
@@ -646,12 +701,16 @@ fn read_vertices<S: Source>(e: &Element, src: &mut S, path: &Path) -> Result<Ver
             Kind::List { .. } => None,
         })
         .collect();
-    let has_normals = (3..6).all(|k| slots.iter().any(|s| matches!(s, Some((j, _)) if *j == k)));
+    let has = |k: usize| slots.iter().any(|s| matches!(s, Some((j, _)) if *j == k));
+    let has_normals = (3..6).all(has);
+    // The first complete pair of texture coordinates.
+    let uv_slot = [6, 8, 10, 12].into_iter().find(|&k| has(k) && has(k + 1));
     let n = e.count as usize; // at most u32::MAX (checked with the header)
     let mut positions = vec_with_capacity(n, "vertices", path)?;
     let mut normals = if has_normals { Some(vec_with_capacity(n, "normals", path)?) } else { None };
+    let mut uvs = if uv_slot.is_some() { Some(vec_with_capacity(n, "texture coordinates", path)?) } else { None };
     for i in 0..e.count {
-        let mut v = [0.0f32; 6];
+        let mut v = [0.0f32; 14];
         for (slot, prop) in slots.iter().zip(&e.props) {
             let r = match *slot {
                 Some((k, t)) => src.f32_value(t).map(|x| v[k] = x),
@@ -670,8 +729,18 @@ fn read_vertices<S: Source>(e: &Element, src: &mut S, path: &Path) -> Result<Ver
         if let Some(normals) = &mut normals {
             normals.push(Vec3::new(v[3], v[4], v[5]));
         }
+        if let (Some(uvs), Some(k)) = (&mut uvs, uv_slot) {
+            let uv = Vec2::new(v[k], v[k + 1]);
+            if !uv.is_finite() {
+                return Err(MeshError::new(
+                    path,
+                    format!("{}vertex {i} has a non-finite texture coordinate ({}, {})", src.location(), uv.x, uv.y),
+                ));
+            }
+            uvs.push(uv);
+        }
     }
-    Ok((positions, normals))
+    Ok(Vertices { positions, normals, uvs })
 }
 
 /// The length of a list (the count type is an integer type).
@@ -690,15 +759,27 @@ fn skip_property<S: Source>(src: &mut S, kind: Kind) -> Result<(), ReadError> {
     }
 }
 
-fn read_faces<S: Source>(e: &Element, nverts: u64, src: &mut S, path: &Path) -> Result<Vec<[u32; 3]>, MeshError> {
+fn read_faces<S: Source>(e: &Element, nverts: u64, src: &mut S, path: &Path) -> Result<Faces, MeshError> {
     let target = e.props.iter().position(|p| p.name == "vertex_indices" || p.name == "vertex_index");
     let target = target.expect("checked with the header");
+    let face_index_prop = e.props.iter().position(|p| p.name == "face_indices" && matches!(p.kind, Kind::Scalar(_)));
     // Most faces are one triangle; the vector grows for larger ones.
     let mut tris = vec_with_capacity(e.count as usize, "triangles", path)?;
+    let mut face_indices: Option<Vec<u32>> = match face_index_prop {
+        Some(_) => Some(vec_with_capacity(e.count as usize, "face indices", path)?),
+        None => None,
+    };
     for f in 0..e.count {
+        let mut face_index = 0u32;
         for (k, prop) in e.props.iter().enumerate() {
             let fail = |src: &S, err| read_error(path, src, err, e, f, prop);
             match prop.kind {
+                Kind::Scalar(t) if Some(k) == face_index_prop => {
+                    let v = src.int_value(t).map_err(|err| fail(src, err))?;
+                    face_index = u32::try_from(v).map_err(|_| {
+                        MeshError::new(path, format!("{}face {f} has face index {v}, not in 0..2³²", src.location()))
+                    })?;
+                }
                 Kind::List { count, item } if k == target => {
                     let len = list_len(src, count).map_err(|err| fail(src, err))?;
                     let (mut first, mut prev) = (0, 0);
@@ -726,8 +807,11 @@ fn read_faces<S: Source>(e: &Element, nverts: u64, src: &mut S, path: &Path) -> 
                 kind => skip_property(src, kind).map_err(|err| fail(src, err))?,
             }
         }
+        if let Some(fi) = &mut face_indices {
+            fi.resize(tris.len(), face_index);
+        }
     }
-    Ok(tris)
+    Ok(Faces { triangles: tris, face_indices })
 }
 
 fn skip_element<S: Source>(e: &Element, src: &mut S, path: &Path) -> Result<(), MeshError> {
@@ -910,6 +994,40 @@ mod tests {
         bytes[25] = 0xff; // inside "element" on line 3
         let e = parse_ply(&bytes, Path::new("t.ply")).unwrap_err().message;
         assert!(e.contains("UTF-8") && e.contains("line 3"), "{e}");
+    }
+
+    #[test]
+    fn uvs_face_indices_and_quads() {
+        let text = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+                    property float s\nproperty float t\nelement face 1\nproperty list uchar int vertex_indices\n\
+                    property int face_indices\nend_header\n\
+                    0 0 0 0 0\n1 0 0 1 0\n1 1 0 1 1\n0 1 0 0 1\n4 0 1 2 3 7\n";
+        let m = parse(text).unwrap();
+        // pbrt's split of a quad: (v0, v1, v2), (v0, v2, v3).
+        assert_eq!(m.indices, vec![[0, 1, 2], [0, 2, 3]]);
+        assert_eq!(m.uvs.as_deref(), Some(&[Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y][..]));
+        assert_eq!(m.face_indices, Some(vec![7, 7]));
+        // Each of pbrt's names; u/v wins over the others.
+        for (a, b) in [("u", "v"), ("texture_u", "texture_v"), ("texture_s", "texture_t")] {
+            let t = TRI.replace("property float z\n", &format!("property float z\nproperty float {a}\nproperty float {b}\n"));
+            let t = t.replace("0 0 0 1 0 0 0 1 0", "0 0 0 0.5 0.25 1 0 0 1 0 0 1 0 0 1");
+            assert_eq!(parse(&t).unwrap().uvs.unwrap()[0], Vec2::new(0.5, 0.25), "{a}");
+        }
+        // Without texture coordinates: none.
+        assert_eq!(parse(TRI).unwrap().uvs, None);
+        assert_eq!(parse(TRI).unwrap().face_indices, None);
+    }
+
+    #[test]
+    fn gzip_files_are_decompressed() {
+        use std::io::Write;
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        gz.write_all(TRI.as_bytes()).unwrap();
+        let bytes = gz.finish().unwrap();
+        assert_eq!(parse_ply(&bytes, Path::new("t.ply.gz")).unwrap(), parse(TRI).unwrap());
+        // A damaged stream is an error, not a panic.
+        let e = parse_ply(&bytes[..bytes.len() / 2], Path::new("t.ply.gz")).unwrap_err();
+        assert!(e.message.contains("gzip"), "{e}");
     }
 
     #[test]

@@ -17,7 +17,8 @@ use std::sync::Arc;
 /// Other primitives are returned as they are. With fewer than two loose
 /// triangles, or if a mesh cannot be built, the triangles stay as they are.
 pub(crate) fn merge_loose_triangles(primitives: &[Primitive]) -> Vec<Primitive> {
-    let loose = |p: &Primitive| matches!(p.shape(), Shape::Triangle(_));
+    // Triangles with an alpha cut-out keep their own primitive (and texture).
+    let loose = |p: &Primitive| matches!(p.shape(), Shape::Triangle(_)) && p.alpha().is_none();
     if primitives.iter().filter(|p| loose(p)).count() < 2 {
         return primitives.to_vec();
     }
@@ -25,7 +26,7 @@ pub(crate) fn merge_loose_triangles(primitives: &[Primitive]) -> Vec<Primitive> 
     for smooth in [false, true] {
         let group: Vec<&Primitive> = primitives
             .iter()
-            .filter(|p| matches!(p.shape(), Shape::Triangle(t) if t.normals().is_some() == smooth))
+            .filter(|p| loose(p) && matches!(p.shape(), Shape::Triangle(t) if t.normals().is_some() == smooth))
             .collect();
         if group.is_empty() {
             continue;

@@ -8,10 +8,11 @@ mod merge;
 pub use aggregate::{Aggregate, BvhAggregate, LinearAggregate};
 pub(crate) use merge::merge_loose_triangles;
 
-use crate::geometry::{Bounds3, Ray, Transform};
+use crate::geometry::{Bounds3, Ray, Transform, Vec3};
 use crate::interaction::SurfaceInteraction;
 use crate::material::MaterialId;
-use crate::shapes::Shape;
+use crate::shapes::{Shape, ShapeHit};
+use crate::texture::{FloatTexture, TextureContext};
 use std::sync::Arc;
 
 /// A shape placed in the world: the shape in its object space, the
@@ -31,6 +32,8 @@ pub struct Primitive {
     area_light: Option<u32>,
     /// For merged meshes: the area light of each face, or [`NO_LIGHT`].
     face_lights: Option<Arc<[u32]>>,
+    /// Alpha cut-out: where it is 0 the surface does not exist.
+    alpha: Option<Arc<FloatTexture>>,
 }
 
 /// In a per-face light table: the face does not emit.
@@ -40,7 +43,15 @@ impl Primitive {
     /// Place `shape` in the world with `transform` (object to world).
     pub fn new(shape: impl Into<Shape>, transform: Transform, material: MaterialId) -> Self {
         let transform = (!transform.is_identity()).then_some(transform);
-        Self { shape: shape.into(), transform, material, face_materials: None, area_light: None, face_lights: None }
+        Self {
+            shape: shape.into(),
+            transform,
+            material,
+            face_materials: None,
+            area_light: None,
+            face_lights: None,
+            alpha: None,
+        }
     }
 
     /// Give a mesh's faces the materials its file assigns them:
@@ -49,6 +60,29 @@ impl Primitive {
     pub fn with_face_materials(mut self, table: Arc<[MaterialId]>) -> Self {
         self.face_materials = Some(table);
         self
+    }
+
+    /// Give the surface an alpha cut-out (pbrt-v4's `alpha` parameter,
+    /// `GeometricPrimitive::Intersect`): where `alpha` is 0 the surface does
+    /// not exist for any ray (camera, bounce or shadow), where it is 1 it
+    /// is opaque, and in between a hit exists with probability `alpha`,
+    /// decided by a hash of the ray's origin and direction (so the same ray
+    /// always gets the same answer). The texture is evaluated at each
+    /// candidate hit with a [`TextureContext`] of its world-space point,
+    /// geometric normal and uv; for a mesh inside its BVH traversal, so a
+    /// cut-out triangle shows the nearest one behind it. A constant alpha
+    /// of 1 or more is no cut-out at all and is dropped.
+    pub fn with_alpha(mut self, alpha: FloatTexture) -> Self {
+        self.alpha = match alpha {
+            FloatTexture::Constant(a) if a >= 1.0 => None,
+            a => Some(Arc::new(a)),
+        };
+        self
+    }
+
+    /// The alpha cut-out texture, if any.
+    pub fn alpha(&self) -> Option<&FloatTexture> {
+        self.alpha.as_deref()
     }
 
     /// Mark the primitive as emissive: face `i` belongs to area light
@@ -124,9 +158,15 @@ impl Primitive {
     /// inverse transpose.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
-        let (hit, t) = match &self.transform {
-            None => (self.shape.intersect(ray, t_max)?, None),
-            Some(t) => (self.shape.intersect(&t.ray_to_object(ray), t_max)?, Some(t)),
+        let (hit, t) = match (&self.transform, &self.alpha) {
+            (None, None) => (self.shape.intersect(ray, t_max)?, None),
+            (Some(t), None) => (self.shape.intersect(&t.ray_to_object(ray), t_max)?, Some(t)),
+            (t, Some(alpha)) => {
+                let object_ray = t.map(|t| t.ray_to_object(ray));
+                let u = ray_hash(ray);
+                let mut accept = |h: &ShapeHit| self.alpha_accepts(alpha, t.as_ref(), h, u);
+                (self.shape.intersect_filtered(object_ray.as_ref().unwrap_or(ray), t_max, &mut accept)?, t.as_ref())
+            }
         };
         let (p, p_error, n, ns, dpdu, dpdv) = match t {
             None => (hit.p, hit.p_error, hit.n, hit.ns, hit.dpdu, hit.dpdv),
@@ -157,9 +197,57 @@ impl Primitive {
     /// Whether any hit with `0 < t < t_max` exists.
     #[inline]
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
-        match &self.transform {
-            None => self.shape.intersect_p(ray, t_max),
-            Some(t) => self.shape.intersect_p(&t.ray_to_object(ray), t_max),
+        match (&self.transform, &self.alpha) {
+            (None, None) => self.shape.intersect_p(ray, t_max),
+            (Some(t), None) => self.shape.intersect_p(&t.ray_to_object(ray), t_max),
+            (t, Some(alpha)) => {
+                let object_ray = t.map(|t| t.ray_to_object(ray));
+                let u = ray_hash(ray);
+                let mut accept = |h: &ShapeHit| self.alpha_accepts(alpha, t.as_ref(), h, u);
+                self.shape.intersect_p_filtered(object_ray.as_ref().unwrap_or(ray), t_max, &mut accept)
+            }
         }
     }
+
+    /// Whether the candidate hit `h` (object space) survives the alpha
+    /// test: `alpha ≥ 1` keeps it, `alpha ≤ 0` drops it, and in between it
+    /// is kept when the ray's hash `u ∈ [0, 1)` is below alpha (pbrt-v4).
+    #[inline]
+    fn alpha_accepts(&self, alpha: &FloatTexture, t: Option<&Transform>, h: &ShapeHit, u: f32) -> bool {
+        let (p, n) = match t {
+            None => (h.p, h.n),
+            Some(t) => (t.point(h.p), t.normal(h.n).normalize_or_zero()),
+        };
+        let a = alpha.evaluate(&TextureContext { p, n, uv: h.uv });
+        if a >= 1.0 {
+            true
+        } else if a <= 0.0 || a.is_nan() {
+            false
+        } else {
+            u < a
+        }
+    }
+}
+
+/// A number in `[0, 1)` hashed from a ray's origin and direction, for
+/// stochastic alpha (pbrt-v4 hashes them the same way, `HashFloat(r.o,
+/// r.d)`): the bits of the six coordinates are mixed with the 64-bit
+/// finaliser of MurmurHash3 (Appleby) and the top 24 bits are kept.
+#[inline]
+fn ray_hash(ray: &Ray) -> f32 {
+    let mix = |mut h: u64| {
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+        h ^ (h >> 33)
+    };
+    let bits = |v: Vec3| (u64::from(v.x.to_bits()) << 32 | u64::from(v.y.to_bits()), u64::from(v.z.to_bits()));
+    let (o0, o1) = bits(ray.origin);
+    let (d0, d1) = bits(ray.dir);
+    let mut h = mix(o0 ^ 0x9e37_79b9_7f4a_7c15);
+    for w in [o1, d0, d1] {
+        h = mix(h ^ w.wrapping_add(0x9e37_79b9_7f4a_7c15));
+    }
+    (h >> 40) as f32 / (1u64 << 24) as f32
 }

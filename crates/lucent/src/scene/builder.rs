@@ -481,6 +481,12 @@ fn area_shapes(primitive: &Primitive, emission: Emission) -> Result<Vec<Shape>, 
     let triangle = |v: [Vec3; 3]| Shape::Triangle(Triangle::new_unchecked(v.map(|p| t.point(p))));
     Ok(match primitive.shape() {
         Shape::Plane(_) => return Err(EmissionError::Plane),
+        // Partial spheres, disks and cylinders keep their frame: their
+        // world copy needs a similarity transform, as a sphere does.
+        shape @ (Shape::Disk(_) | Shape::Cylinder(_)) => vec![shape.transformed(&t).ok_or(EmissionError::Ellipsoid)?],
+        shape @ Shape::Sphere(s) if s.clipping().is_some() => {
+            vec![shape.transformed(&t).ok_or(EmissionError::Ellipsoid)?]
+        }
         Shape::Sphere(s) => {
             let scale = uniform_scale(&t).ok_or(EmissionError::Ellipsoid)?;
             vec![Shape::Sphere(Sphere::new_unchecked(t.point(s.center()), s.radius() * scale))]

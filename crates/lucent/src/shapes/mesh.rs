@@ -1,7 +1,33 @@
 use super::mesh_bvh::MeshBvh;
+use super::triangle::triangle_dpduv;
 use super::{ShapeError, ShapeHit};
 use crate::geometry::{gamma, Bounds3, Ray, Vec2, Vec3};
 use crate::mesh::TriangleMesh;
+
+/// How a mesh without per-vertex texture coordinates is parameterised:
+/// each triangle on its own, from corner uvs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DefaultUv {
+    /// Corner uvs (0, 0), (1, 0), (0, 1): `uv` is the barycentrics `(b₁,
+    /// b₂)`, lucent's convention (and [`crate::shapes::Triangle`]'s).
+    #[default]
+    Barycentric,
+    /// Corner uvs (0, 0), (1, 0), (1, 1): `uv = (b₁ + b₂, b₂)`, pbrt-v4's
+    /// default for triangles without `uv` (PBRT 4th ed., §6.5.3), for
+    /// scenes imported from pbrt.
+    Pbrt,
+}
+
+impl DefaultUv {
+    /// The corner uvs of each triangle.
+    #[inline]
+    pub fn corners(self) -> [Vec2; 3] {
+        match self {
+            DefaultUv::Barycentric => [Vec2::ZERO, Vec2::X, Vec2::Y],
+            DefaultUv::Pbrt => [Vec2::ZERO, Vec2::X, Vec2::ONE],
+        }
+    }
+}
 
 /// A triangle mesh ready to be intersected: its data and a BVH over its
 /// triangles, in object space. Place it any number of times through
@@ -9,13 +35,21 @@ use crate::mesh::TriangleMesh;
 /// stored once.
 ///
 /// Shading normals are interpolated from per-vertex normals when the mesh
-/// has them; texture coordinates are the barycentrics `(b₁, b₂)`.
+/// has them. Texture coordinates are interpolated from per-vertex uvs when
+/// it has them; otherwise each triangle is parameterised by the corner uvs
+/// of its [`DefaultUv`] (the barycentrics `(b₁, b₂)` unless
+/// [`Mesh::with_default_uv`] says otherwise). `∂p/∂u` and `∂p/∂v` are
+/// those of the triangle's parameterisation (see
+/// [`crate::shapes::triangle_dpduv`]).
 #[derive(Debug)]
 pub struct Mesh {
     positions: Vec<Vec3>,
     indices: Vec<[u32; 3]>,
     normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<Vec2>>,
+    face_indices: Option<Vec<u32>>,
     material_ids: Option<Vec<u32>>,
+    default_uv: DefaultUv,
     bvh: MeshBvh,
     degenerate: usize,
 }
@@ -37,8 +71,30 @@ impl Mesh {
                 return Err(ShapeError::BadMesh("the mesh has a different number of normals and vertices".into()));
             }
         }
+        if let Some(uvs) = &mesh.uvs {
+            if uvs.len() != n {
+                return Err(ShapeError::BadMesh(format!(
+                    "the mesh has {} texture coordinates for {n} vertices",
+                    uvs.len()
+                )));
+            }
+            if uvs.iter().any(|uv| !uv.is_finite()) {
+                return Err(ShapeError::BadMesh("a texture coordinate is not a finite number".into()));
+            }
+        }
         if mesh.indices.is_empty() {
             return Err(ShapeError::BadMesh("the mesh has no triangles".into()));
+        }
+        for (what, v) in [("face indices", &mesh.face_indices), ("material ids", &mesh.material_ids)] {
+            if let Some(v) = v {
+                if v.len() != mesh.indices.len() {
+                    return Err(ShapeError::BadMesh(format!(
+                        "the mesh has {} {what} for {} triangles",
+                        v.len(),
+                        mesh.indices.len()
+                    )));
+                }
+            }
         }
         let bvh = MeshBvh::build(&mesh);
         let degenerate = mesh.indices.len() - bvh.triangle_count();
@@ -48,10 +104,21 @@ impl Mesh {
             positions: mesh.positions,
             indices: mesh.indices,
             normals,
+            uvs: mesh.uvs,
+            face_indices: mesh.face_indices,
             material_ids: mesh.material_ids,
+            default_uv: DefaultUv::Barycentric,
             bvh,
             degenerate,
         })
+    }
+
+    /// The same mesh with triangles parameterised by `default_uv` where it
+    /// has no per-vertex uvs (the importer of pbrt scenes passes
+    /// [`DefaultUv::Pbrt`]).
+    pub fn with_default_uv(mut self, default_uv: DefaultUv) -> Self {
+        self.default_uv = default_uv;
+        self
     }
 
     /// Number of triangles, degenerate ones included.
@@ -67,6 +134,26 @@ impl Mesh {
     /// The corners of triangle `i`, in object space.
     pub fn triangle(&self, i: usize) -> [Vec3; 3] {
         self.indices[i].map(|v| self.positions[v as usize])
+    }
+
+    /// The texture coordinates of the corners of triangle `i`: its
+    /// vertices' uvs, or the [`DefaultUv`] corners.
+    pub fn triangle_uvs(&self, i: usize) -> [Vec2; 3] {
+        match &self.uvs {
+            Some(uvs) => self.indices[i].map(|v| uvs[v as usize]),
+            None => self.default_uv.corners(),
+        }
+    }
+
+    /// Whether the mesh has per-vertex texture coordinates.
+    pub fn has_uvs(&self) -> bool {
+        self.uvs.is_some()
+    }
+
+    /// The face index of triangle `face` (PLY `face_indices`, for
+    /// ptex-style textures), if the mesh has them.
+    pub fn face_index(&self, face: u32) -> Option<u32> {
+        self.face_indices.as_ref().map(|f| f[face as usize])
     }
 
     /// The mesh-local material index of a face, if the mesh assigns them.
@@ -94,19 +181,18 @@ impl Mesh {
         self.positions.capacity() * 12
             + self.indices.capacity() * 12
             + self.normals.as_ref().map_or(0, |n| n.capacity() * 12)
+            + self.uvs.as_ref().map_or(0, |n| n.capacity() * 8)
+            + self.face_indices.as_ref().map_or(0, |m| m.capacity() * 4)
             + self.material_ids.as_ref().map_or(0, |m| m.capacity() * 4)
             + self.bvh.memory_bytes()
     }
 
-    /// The nearest hit with `0 < t < t_max`.
-    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
-        let hit = self.bvh.intersect(ray, 0.0, t_max)?;
-        if hit.t >= t_max {
-            return None;
-        }
-        let [i0, i1, i2] = self.indices[hit.triangle as usize].map(|i| i as usize);
+    /// The surface at barycentrics `b` of triangle `face`, hit at `t`.
+    #[inline]
+    fn hit_at(&self, t: f32, face: u32, b: [f32; 3]) -> ShapeHit {
+        let [i0, i1, i2] = self.indices[face as usize].map(|i| i as usize);
         let (p0, p1, p2) = (self.positions[i0], self.positions[i1], self.positions[i2]);
-        let [b0, b1, b2] = hit.b;
+        let [b0, b1, b2] = b;
         let p = b0 * p0 + b1 * p1 + b2 * p2;
         let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
         let mut n = (p1 - p0).cross(p2 - p0).normalize();
@@ -126,23 +212,48 @@ impl Mesh {
             }
             None => n,
         };
-        Some(ShapeHit {
-            t: hit.t,
-            p,
-            p_error,
-            n,
-            ns,
-            uv: Vec2::new(b1, b2),
-            dpdu: crate::geometry::coordinate_system(n).0,
-            dpdv: crate::geometry::coordinate_system(n).1,
-            face: hit.triangle,
-        })
+        let uvs = match &self.uvs {
+            Some(uvs) => [uvs[i0], uvs[i1], uvs[i2]],
+            None => self.default_uv.corners(),
+        };
+        let uv = b0 * uvs[0] + b1 * uvs[1] + b2 * uvs[2];
+        let (dpdu, dpdv) = triangle_dpduv([p0, p1, p2], uvs, n);
+        ShapeHit { t, p, p_error, n, ns, uv, dpdu, dpdv, face }
+    }
+
+    /// The nearest hit with `0 < t < t_max`.
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
+        let hit = self.bvh.intersect(ray, 0.0, t_max)?;
+        if hit.t >= t_max {
+            return None;
+        }
+        Some(self.hit_at(hit.t, hit.triangle, hit.b))
+    }
+
+    /// The nearest hit with `0 < t < t_max` among those `accept` lets
+    /// through (alpha cut-outs): the test runs inside the BVH traversal, so
+    /// a rejected triangle hides nothing behind it.
+    pub fn intersect_filtered(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        accept: &mut dyn FnMut(&ShapeHit) -> bool,
+    ) -> Option<ShapeHit> {
+        let t_end = t_max.next_down();
+        let hit = self.bvh.intersect_filtered(ray, 0.0, t_end, &mut |h| accept(&self.hit_at(h.t, h.triangle, h.b)))?;
+        Some(self.hit_at(hit.t, hit.triangle, hit.b))
     }
 
     /// Whether any triangle is hit with `0 < t < t_max`.
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
         // The BVH's interval is closed; shrink it by one float to keep t_max out.
         self.bvh.occluded(ray, 0.0, t_max.next_down())
+    }
+
+    /// Whether any triangle that `accept` lets through is hit with `0 < t
+    /// < t_max`.
+    pub fn intersect_p_filtered(&self, ray: &Ray, t_max: f32, accept: &mut dyn FnMut(&ShapeHit) -> bool) -> bool {
+        self.bvh.occluded_filtered(ray, 0.0, t_max.next_down(), &mut |h| accept(&self.hit_at(h.t, h.triangle, h.b)))
     }
 }
 

@@ -1,7 +1,7 @@
 //! A BVH over the triangles of one mesh, in the mesh's object space: the
 //! bottom level of lucent's two-level acceleration structure.
 
-use super::watertight::{intersect_block, TriangleBlock, WatertightRay};
+use super::watertight::{intersect_block, intersect_block_filtered, TriangleBlock, WatertightRay};
 use crate::accel::{prefetch, BoxRay, Bvh, PageArray};
 use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::mesh::TriangleMesh;
@@ -123,6 +123,74 @@ impl MeshBvh {
             },
         );
         best
+    }
+
+    /// The closest hit with `t ∈ [t_min, t_max]` that `accept` lets
+    /// through: candidates are offered as the traversal finds them (within
+    /// a leaf nearest first), and a rejected one is as if it did not exist,
+    /// so the nearest accepted triangle is found (alpha cut-outs, pbrt-v4's
+    /// `GeometricPrimitive::Intersect`). `accept` may be called for
+    /// triangles farther than the answer, never for ones beyond `t_max`.
+    #[inline]
+    pub fn intersect_filtered(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        accept: &mut dyn FnMut(&MeshHit) -> bool,
+    ) -> Option<MeshHit> {
+        let box_ray = BoxRay::new(ray.origin, ray.dir);
+        let tri_ray = WatertightRay::new(ray);
+        let mut t_max = t_max;
+        let mut best = None;
+        self.bvh.traverse_closest(
+            &box_ray,
+            t_min,
+            &mut t_max,
+            |b| self.prefetch_block(b),
+            |block, _, t_max| {
+                let block = &self.blocks[block as usize];
+                let found = intersect_block_filtered(&tri_ray, block, t_min, *t_max, |lane, h| {
+                    accept(&MeshHit { t: h.t, triangle: block.ids[lane], b: h.b })
+                });
+                match found {
+                    Some((lane, h)) => {
+                        *t_max = h.t;
+                        best = Some(MeshHit { t: h.t, triangle: block.ids[lane], b: h.b });
+                        true
+                    }
+                    None => false,
+                }
+            },
+        );
+        best
+    }
+
+    /// Whether any triangle that `accept` lets through is hit with `t ∈
+    /// [t_min, t_max]` (see [`MeshBvh::intersect_filtered`]).
+    #[inline]
+    pub fn occluded_filtered(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        accept: &mut dyn FnMut(&MeshHit) -> bool,
+    ) -> bool {
+        let box_ray = BoxRay::new(ray.origin, ray.dir);
+        let tri_ray = WatertightRay::new(ray);
+        self.bvh.traverse_any(
+            &box_ray,
+            t_min,
+            t_max,
+            |b| self.prefetch_block(b),
+            |block, _| {
+                let block = &self.blocks[block as usize];
+                intersect_block_filtered(&tri_ray, block, t_min, t_max, |lane, h| {
+                    accept(&MeshHit { t: h.t, triangle: block.ids[lane], b: h.b })
+                })
+                .is_some()
+            },
+        )
     }
 
     /// Whether any triangle is hit with `t ∈ [t_min, t_max]`.

@@ -10,25 +10,31 @@
 //! ed., §6.1): [`Sphere::area`], [`Sphere::sample_area`] (uniform by area),
 //! [`Sphere::sample_solid_angle`] (by the solid angle the shape subtends at
 //! a reference point), [`Sphere::pdf_solid_angle`], and the same methods on
-//! [`Triangle`]. [`Shape`] dispatches them; planes and meshes are not
+//! [`Triangle`], [`Disk`] and [`Cylinder`] (pbrt-v4's quadrics, which are
+//! sampled by area). [`Shape`] dispatches them; planes and meshes are not
 //! sampled (an emissive mesh is one light per face). The sampling methods
 //! take the shape in whatever space the reference point is in: lights keep
 //! world-space copies.
 
+mod cylinder;
+mod disk;
 mod mesh;
 mod mesh_bvh;
+mod placement;
 mod plane;
 mod sphere;
 mod triangle;
 pub mod watertight;
 
-pub use mesh::Mesh;
+pub use cylinder::Cylinder;
+pub use disk::Disk;
+pub use mesh::{DefaultUv, Mesh};
 pub use mesh_bvh::{MeshBvh, MeshHit};
 pub use plane::Plane;
 pub use sphere::Sphere;
-pub use triangle::{triangle_solid_angle, Triangle, MAX_SPHERICAL_SAMPLE_AREA, MIN_SPHERICAL_SAMPLE_AREA};
+pub use triangle::{triangle_dpduv, triangle_solid_angle, Triangle, MAX_SPHERICAL_SAMPLE_AREA, MIN_SPHERICAL_SAMPLE_AREA};
 
-use crate::geometry::{Bounds3, Ray, Vec2, Vec3};
+use crate::geometry::{Bounds3, Ray, Transform, Vec2, Vec3};
 use std::sync::Arc;
 
 /// Why a shape cannot be built from the given parameters.
@@ -49,6 +55,10 @@ pub enum ShapeError {
     /// A mesh is inconsistent.
     #[error("{0}")]
     BadMesh(String),
+    /// A shape parameter is out of its range (an empty partial sphere, an
+    /// inner radius beyond the outer one...).
+    #[error("{0}")]
+    BadParameter(String),
 }
 
 /// The local geometry at a ray–shape intersection, in the shape's space.
@@ -101,7 +111,15 @@ pub enum Shape {
     Triangle(Triangle),
     /// A triangle mesh with its own BVH, shared by every placement of it.
     Mesh(Arc<Mesh>),
+    /// pbrt-v4's disk (an annulus sector).
+    Disk(Disk),
+    /// pbrt-v4's (partial, open) cylinder.
+    Cylinder(Cylinder),
 }
+
+/// A test that decides whether a candidate hit exists (alpha cut-outs, see
+/// [`Shape::intersect_filtered`]): `true` keeps it.
+pub type HitFilter<'a> = &'a mut dyn FnMut(&ShapeHit) -> bool;
 
 impl Shape {
     /// The closest intersection with `0 < t < t_max`, if any.
@@ -112,6 +130,31 @@ impl Shape {
             Shape::Plane(s) => s.intersect(ray, t_max),
             Shape::Triangle(s) => s.intersect(ray, t_max),
             Shape::Mesh(s) => s.intersect(ray, t_max),
+            Shape::Disk(s) => s.intersect(ray, t_max),
+            Shape::Cylinder(s) => s.intersect(ray, t_max),
+        }
+    }
+
+    /// The closest intersection with `0 < t < t_max` among those `accept`
+    /// lets through: a rejected hit does not exist, and what is behind it
+    /// is found (for meshes inside the BVH traversal; for spheres and
+    /// cylinders the farther root). For alpha cut-outs (pbrt-v4's
+    /// `GeometricPrimitive::Intersect`).
+    pub fn intersect_filtered(&self, ray: &Ray, t_max: f32, accept: HitFilter) -> Option<ShapeHit> {
+        match self {
+            Shape::Mesh(s) => s.intersect_filtered(ray, t_max, accept),
+            Shape::Sphere(s) => s.intersect_filtered(ray, t_max, accept),
+            Shape::Cylinder(s) => s.intersect_filtered(ray, t_max, accept),
+            _ => self.intersect(ray, t_max).filter(|h| accept(h)),
+        }
+    }
+
+    /// Whether any intersection with `0 < t < t_max` that `accept` lets
+    /// through exists (see [`Shape::intersect_filtered`]).
+    pub fn intersect_p_filtered(&self, ray: &Ray, t_max: f32, accept: HitFilter) -> bool {
+        match self {
+            Shape::Mesh(s) => s.intersect_p_filtered(ray, t_max, accept),
+            _ => self.intersect_filtered(ray, t_max, accept).is_some(),
         }
     }
 
@@ -123,6 +166,8 @@ impl Shape {
             Shape::Plane(s) => s.intersect(ray, t_max).is_some(),
             Shape::Triangle(s) => s.intersect_t(ray, t_max).is_some(),
             Shape::Mesh(s) => s.intersect_p(ray, t_max),
+            Shape::Disk(s) => s.intersect_p(ray, t_max),
+            Shape::Cylinder(s) => s.intersect_p(ray, t_max),
         }
     }
 
@@ -133,6 +178,8 @@ impl Shape {
             Shape::Plane(_) => Bounds3::INFINITE,
             Shape::Triangle(s) => s.bounds(),
             Shape::Mesh(s) => s.bounds(),
+            Shape::Disk(s) => s.bounds(),
+            Shape::Cylinder(s) => s.bounds(),
         }
     }
 
@@ -144,6 +191,8 @@ impl Shape {
             Shape::Plane(_) => f32::INFINITY,
             Shape::Triangle(s) => s.area(),
             Shape::Mesh(s) => s.area(),
+            Shape::Disk(s) => s.area(),
+            Shape::Cylinder(s) => s.area(),
         }
     }
 
@@ -154,6 +203,8 @@ impl Shape {
         match self {
             Shape::Sphere(s) => s.sample_area(u),
             Shape::Triangle(s) => s.sample_area(u),
+            Shape::Disk(s) => s.sample_area(u),
+            Shape::Cylinder(s) => s.sample_area(u),
             Shape::Plane(_) | Shape::Mesh(_) => None,
         }
     }
@@ -165,6 +216,8 @@ impl Shape {
         match self {
             Shape::Sphere(s) => s.sample_solid_angle(p, u),
             Shape::Triangle(s) => s.sample_solid_angle(p, u),
+            Shape::Disk(s) => s.sample_solid_angle(p, u),
+            Shape::Cylinder(s) => s.sample_solid_angle(p, u),
             Shape::Plane(_) | Shape::Mesh(_) => None,
         }
     }
@@ -176,6 +229,8 @@ impl Shape {
         match self {
             Shape::Sphere(s) => s.pdf_solid_angle(p, p_shape),
             Shape::Triangle(s) => s.pdf_solid_angle(p, p_shape),
+            Shape::Disk(s) => s.pdf_solid_angle(p, p_shape),
+            Shape::Cylinder(s) => s.pdf_solid_angle(p, p_shape),
             Shape::Plane(_) | Shape::Mesh(_) => 0.0,
         }
     }
@@ -183,14 +238,31 @@ impl Shape {
     /// A vector, not normalised, pointing to the front side of the surface
     /// at its point `p`, for telling the sides apart by its sign: `p −
     /// centre` for a sphere, `(p₁ − p₀) × (p₂ − p₀)` for a triangle (its
-    /// winding, whatever its shading normals), the normal of a plane; zero
-    /// for a mesh (which face `p` is on is not known).
+    /// winding, whatever its shading normals), the normal of a plane or a
+    /// disk, away from the axis for a cylinder; zero for a mesh (which face
+    /// `p` is on is not known).
     pub fn front_side(&self, p: Vec3) -> Vec3 {
         match self {
             Shape::Sphere(s) => p - s.center(),
             Shape::Plane(s) => s.normal(),
             Shape::Triangle(s) => s.front_side(),
             Shape::Mesh(_) => Vec3::ZERO,
+            Shape::Disk(s) => s.normal(),
+            Shape::Cylinder(s) => s.front_side(p),
+        }
+    }
+
+    /// A copy of a sampled shape (sphere, partial sphere, disk, cylinder)
+    /// moved by `t` into another space, for the world-space copies area
+    /// lights keep: `None` unless `t` is a similarity (rotation,
+    /// reflection, translation, one uniform scale), and for planes,
+    /// triangles and meshes (move their corners instead).
+    pub fn transformed(&self, t: &Transform) -> Option<Shape> {
+        match self {
+            Shape::Sphere(s) => s.transformed(t).map(Shape::Sphere),
+            Shape::Disk(s) => s.transformed(t).map(Shape::Disk),
+            Shape::Cylinder(s) => s.transformed(t).map(Shape::Cylinder),
+            Shape::Plane(_) | Shape::Triangle(_) | Shape::Mesh(_) => None,
         }
     }
 }
@@ -208,6 +280,16 @@ impl From<Plane> for Shape {
 impl From<Arc<Mesh>> for Shape {
     fn from(s: Arc<Mesh>) -> Self {
         Shape::Mesh(s)
+    }
+}
+impl From<Disk> for Shape {
+    fn from(s: Disk) -> Self {
+        Shape::Disk(s)
+    }
+}
+impl From<Cylinder> for Shape {
+    fn from(s: Cylinder) -> Self {
+        Shape::Cylinder(s)
     }
 }
 impl From<Triangle> for Shape {

@@ -1,5 +1,6 @@
+use super::placement::Placement;
 use super::{area_to_solid_angle, check_finite, ShapeError, ShapeHit, ShapeSample};
-use crate::geometry::{coordinate_system, gamma, Bounds3, Ray, Vec2, Vec3};
+use crate::geometry::{coordinate_system, gamma, Bounds3, Ray, Transform, Vec2, Vec3};
 use crate::sampling::uniform_sphere;
 use std::f32::consts::PI;
 
@@ -8,11 +9,22 @@ use std::f32::consts::PI;
 /// §6.2.4), where `1 − cos θ` would cancel catastrophically.
 const SMALL_SIN2: f32 = 0.000_685_23;
 
-/// A sphere given by its centre and radius. Scaled non-uniformly by an object
-/// transform it becomes an ellipsoid.
+/// A sphere given by its centre and radius, or pbrt-v4's partial sphere.
+/// Scaled non-uniformly by an object transform it becomes an ellipsoid.
 ///
-/// Texture coordinates: `u = φ/2π` around the y axis (from +x towards −z),
-/// `v = θ/π` from the +y pole.
+/// Texture coordinates of [`Sphere::new`] (lucent's convention): `u = φ/2π`
+/// around the y axis (from +x towards −z), `v = θ/π` from the +y pole;
+/// `∂p/∂u = 2π (z, 0, −x)` and `∂p/∂v = π (y cos φ, −r sin θ, −y sin φ)`
+/// (relative to the centre), their exact derivatives.
+///
+/// [`Sphere::partial`] is pbrt-v4's sphere (PBRT 4th ed., §6.2): centred at
+/// the origin around the z axis, clipped to `z_min ≤ z ≤ z_max` and `0 ≤ φ
+/// ≤ φ_max` with `φ = atan2(y, x)`; `u = φ/φ_max`, `v = (θ − θ_min) /
+/// (θ_max − θ_min)` with `θ = acos(z/r)` and `θ_min = acos(z_min/r)` (so `v`
+/// runs from `z_min` to `z_max`); `∂p/∂u = φ_max (−y, x, 0)`, `∂p/∂v =
+/// (θ_max − θ_min) (z cos φ, z sin φ, −r sin θ)`. Its hits respect the
+/// clipping: where the nearer root is clipped away the farther one is
+/// taken, so the inside of a cut sphere is seen through the hole.
 ///
 /// Sampled as a light (PBRT 4th ed., §6.2.4): seen from outside, uniformly
 /// over the cone of directions it subtends; from inside (or on it),
@@ -30,6 +42,27 @@ const SMALL_SIN2: f32 = 0.000_685_23;
 pub struct Sphere {
     center: Vec3,
     radius: f32,
+    /// pbrt-v4's parameterisation and clipping; `None` for [`Sphere::new`].
+    partial: Option<Partial>,
+}
+
+/// The clipping and frame of a pbrt-v4 sphere.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Partial {
+    /// The sphere's own frame; its origin is the centre.
+    placement: Placement,
+    z_min: f32,
+    z_max: f32,
+    theta_z_min: f32,
+    theta_z_max: f32,
+    phi_max: f32,
+}
+
+impl Partial {
+    /// Whether nothing is clipped away.
+    fn is_full(&self, radius: f32) -> bool {
+        self.z_min <= -radius && self.z_max >= radius && self.phi_max >= 2.0 * PI
+    }
 }
 
 impl Sphere {
@@ -38,7 +71,63 @@ impl Sphere {
         if !(radius > 0.0 && radius.is_finite()) {
             return Err(ShapeError::BadRadius(radius));
         }
-        Ok(Self { center: check_finite(center)?, radius })
+        Ok(Self { center: check_finite(center)?, radius, partial: None })
+    }
+
+    /// pbrt-v4's sphere (`Shape "sphere"` with `radius`, `zmin`, `zmax`,
+    /// `phimax`): centred at the origin, clipped to `zmin ≤ z ≤ zmax` and
+    /// `0 ≤ φ ≤ phimax_degrees`, with pbrt's parameterisation (see the type's
+    /// documentation). As in pbrt, `zmin` and `zmax` are ordered and clamped
+    /// to `[−r, r]` and `phimax` to `[0, 360]`; a sphere with nothing left
+    /// (zmin = zmax or phimax = 0) is an error. pbrt's defaults are `zmin =
+    /// −r`, `zmax = r`, `phimax = 360`.
+    pub fn partial(radius: f32, z_min: f32, z_max: f32, phimax_degrees: f32) -> Result<Self, ShapeError> {
+        if !(radius > 0.0 && radius.is_finite()) {
+            return Err(ShapeError::BadRadius(radius));
+        }
+        if !(z_min.is_finite() && z_max.is_finite() && phimax_degrees.is_finite()) {
+            return Err(ShapeError::NonFinite);
+        }
+        let lo = z_min.min(z_max).clamp(-radius, radius);
+        let hi = z_min.max(z_max).clamp(-radius, radius);
+        let phi_max = phimax_degrees.clamp(0.0, 360.0).to_radians();
+        if lo >= hi || phi_max <= 0.0 {
+            return Err(ShapeError::BadParameter(format!(
+                "the sphere is empty: zmin {z_min}, zmax {z_max}, phimax {phimax_degrees} leave no surface"
+            )));
+        }
+        let partial = Partial {
+            placement: Placement::IDENTITY,
+            z_min: lo,
+            z_max: hi,
+            theta_z_min: (lo / radius).clamp(-1.0, 1.0).acos(),
+            theta_z_max: (hi / radius).clamp(-1.0, 1.0).acos(),
+            phi_max,
+        };
+        Ok(Self { center: Vec3::ZERO, radius, partial: Some(partial) })
+    }
+
+    /// `z_min`, `z_max` and `φ_max` (radians) of a [`Sphere::partial`],
+    /// after clamping; `None` for a [`Sphere::new`].
+    pub fn clipping(&self) -> Option<(f32, f32, f32)> {
+        self.partial.map(|p| (p.z_min, p.z_max, p.phi_max))
+    }
+
+    /// The sphere moved by `t`, for the world-space copies area lights
+    /// sample: `None` unless `t` is a similarity (rotation, reflection,
+    /// translation and one uniform scale), which maps a sphere to a sphere.
+    pub fn transformed(&self, t: &Transform) -> Option<Self> {
+        match self.partial {
+            None => {
+                let (_, s) = Placement::IDENTITY.then(t)?;
+                Some(Self { center: t.point(self.center), radius: self.radius * s, partial: None })
+            }
+            Some(p) => {
+                let (placement, s) = p.placement.then(t)?;
+                let partial = Partial { placement, z_min: p.z_min * s, z_max: p.z_max * s, ..p };
+                Some(Self { center: placement.origin(), radius: self.radius * s, partial: Some(partial) })
+            }
+        }
     }
 
     /// A sphere, unchecked: for the world-space copies that area lights
@@ -46,7 +135,7 @@ impl Sphere {
     /// sampling methods give no sample (and area 0) for a radius that is not
     /// positive.
     pub(crate) fn new_unchecked(center: Vec3, radius: f32) -> Self {
-        Self { center, radius }
+        Self { center, radius, partial: None }
     }
 
     /// Centre.
@@ -59,23 +148,47 @@ impl Sphere {
         self.radius
     }
 
-    /// Object-space bounds.
+    /// Object-space bounds (of the clipped z range for a partial sphere in
+    /// its own frame, as pbrt).
     pub fn bounds(&self) -> Bounds3 {
-        Bounds3::from_points(self.center - Vec3::splat(self.radius), self.center + Vec3::splat(self.radius))
+        let r = self.radius;
+        match &self.partial {
+            Some(p) if p.placement.is_identity() => {
+                Bounds3::from_points(Vec3::new(-r, -r, p.z_min), Vec3::new(r, r, p.z_max))
+            }
+            _ => Bounds3::from_points(self.center - Vec3::splat(r), self.center + Vec3::splat(r)),
+        }
     }
 
-    /// Surface area, `4π r²`.
+    /// Surface area: `4π r²`, or `φ_max r (z_max − z_min)` for a partial
+    /// sphere (a zone's area depends only on its height, Archimedes).
     pub fn area(&self) -> f32 {
-        4.0 * PI * self.radius * self.radius
+        match &self.partial {
+            None => 4.0 * PI * self.radius * self.radius,
+            Some(p) => p.phi_max * self.radius * (p.z_max - p.z_min),
+        }
     }
 
     /// A point uniformly distributed over the surface, from `u` in `[0, 1)²`
     /// (PBRT 4th ed., §A.5.3: `z` uniform in `[−1, 1]` and `φ` uniform is
-    /// uniform on the sphere, Archimedes); `pdf` is `1 / area`.
+    /// uniform on the sphere, Archimedes; for a partial sphere `z` uniform
+    /// in `[z_min, z_max]` and `φ` in `[0, φ_max]`); `pdf` is `1 / area`.
     pub fn sample_area(&self, u: Vec2) -> Option<ShapeSample> {
-        let n = uniform_sphere(u);
+        let area = self.area();
+        if !(area > 0.0) {
+            return None;
+        }
+        let n = match &self.partial {
+            None => uniform_sphere(u),
+            Some(p) => {
+                let z = (p.z_min + u.x * (p.z_max - p.z_min)) / self.radius;
+                let sin = (1.0 - z * z).max(0.0).sqrt();
+                let phi = u.y * p.phi_max;
+                p.placement.vector_to_world(Vec3::new(sin * phi.cos(), sin * phi.sin(), z))
+            }
+        };
         let p = self.center + self.radius * n;
-        Some(ShapeSample { p, n, pdf: 1.0 / self.area() })
+        Some(ShapeSample { p, n, pdf: 1.0 / area })
     }
 
     /// A point of the sphere seen from `p`, its outward normal and the
@@ -90,10 +203,10 @@ impl Sphere {
         if radius.is_nan() || radius <= 0.0 {
             return None;
         }
-        if Self::sampled_by_area(dc2, r2) {
-            // Inside (or on): uniform over the surface.
+        if self.clipped() || Self::sampled_by_area(dc2, r2) {
+            // Inside (or on), or clipped: uniform over the surface.
             let s = self.sample_area(u)?;
-            let pdf = area_to_solid_angle(p, s.p, s.n, 4.0 * PI * r2);
+            let pdf = area_to_solid_angle(p, s.p, s.n, self.area());
             return (pdf > 0.0).then_some(ShapeSample { pdf, ..s });
         }
         // Outside: sample cos θ uniformly in [cos θ_max, 1] about the axis
@@ -129,13 +242,20 @@ impl Sphere {
         let (center, radius) = (self.center, self.radius);
         let dc2 = (center - p).length_squared();
         let r2 = radius * radius;
-        if Self::sampled_by_area(dc2, r2) {
-            // Inside (or on): uniform by area, 1 / (4π r²), to solid angle.
+        if self.clipped() || Self::sampled_by_area(dc2, r2) {
+            // Inside (or on), or clipped: uniform by area, to solid angle.
             let n = (p_shape - center).normalize_or_zero();
-            area_to_solid_angle(p, p_shape, n, 4.0 * PI * r2)
+            area_to_solid_angle(p, p_shape, n, self.area())
         } else {
             1.0 / (2.0 * PI * one_minus_cos_theta_max(r2 / dc2))
         }
+    }
+
+    /// Whether part of the sphere is clipped away (so the cone it
+    /// subtends cannot be sampled).
+    #[inline]
+    fn clipped(&self) -> bool {
+        self.partial.is_some_and(|p| !p.is_full(self.radius))
     }
 
     /// Whether the sphere is sampled by area rather than by the cone it
@@ -202,33 +322,126 @@ impl Sphere {
     /// Whether the ray hits the sphere with `0 < t < t_max`.
     #[inline]
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
-        self.nearest_t(ray, t_max).is_some()
+        match self.partial {
+            None => self.nearest_t(ray, t_max).is_some(),
+            Some(_) => self.intersect(ray, t_max).is_some(),
+        }
     }
 
     /// The nearest intersection with `0 < t < t_max`.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
-        let t = self.nearest_t(ray, t_max)?;
-        // Reproject the hit onto the surface: this bounds the point's error
-        // by γ₅|p| whatever the error of t (PBRT 4th ed., §6.8.5).
-        let mut local = ray.origin - self.center + t * ray.dir;
-        local *= self.radius / local.length();
-        let p = local + self.center;
-        let p_error = gamma(5) * local.abs() + gamma(1) * p.abs();
-        let n = local / self.radius;
-        let phi = (-local.z).atan2(local.x);
-        let u = if phi < 0.0 { phi + 2.0 * PI } else { phi } / (2.0 * PI);
-        let v = (local.y / self.radius).clamp(-1.0, 1.0).acos() / PI;
-        Some(ShapeHit {
-            t,
-            p,
-            p_error,
-            n,
-            ns: n,
-            uv: Vec2::new(u, v),
-            dpdu: crate::geometry::coordinate_system(n).0,
-            dpdv: crate::geometry::coordinate_system(n).1,
-            face: 0,
-        })
+        self.intersect_filtered(ray, t_max, &mut |_| true)
+    }
+
+    /// The nearest intersection with `0 < t < t_max` that `accept` lets
+    /// through (alpha cut-outs): where the nearer root is rejected, the
+    /// farther one is tried.
+    pub fn intersect_filtered(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        accept: &mut dyn FnMut(&ShapeHit) -> bool,
+    ) -> Option<ShapeHit> {
+        let (t0, t1) = self.roots(ray)?;
+        if t0 >= t_max || t1 <= 0.0 {
+            return None;
+        }
+        for t in [t0, t1] {
+            if !(t > 0.0 && t < t_max) {
+                continue;
+            }
+            if let Some(hit) = self.hit_at(ray, t) {
+                if accept(&hit) {
+                    return Some(hit);
+                }
+            }
+            if t0 == t1 {
+                break;
+            }
+        }
+        None
+    }
+
+    /// The surface where the ray meets the sphere at `t`; `None` where a
+    /// partial sphere is clipped away there.
+    #[inline]
+    fn hit_at(&self, ray: &Ray, t: f32) -> Option<ShapeHit> {
+        let r = self.radius;
+        match &self.partial {
+            None => {
+                // Reproject the hit onto the surface: this bounds the point's
+                // error by γ₅|p| whatever the error of t (PBRT 4th ed., §6.8.5).
+                let mut local = ray.origin - self.center + t * ray.dir;
+                local *= r / local.length();
+                let p = local + self.center;
+                let p_error = gamma(5) * local.abs() + gamma(1) * p.abs();
+                let n = local / r;
+                let phi = (-local.z).atan2(local.x);
+                let u = if phi < 0.0 { phi + 2.0 * PI } else { phi } / (2.0 * PI);
+                let cos_theta = (local.y / r).clamp(-1.0, 1.0);
+                let v = cos_theta.acos() / PI;
+                // u = φ/2π, v = θ/π of p = r (sin θ cos φ, cos θ, −sin θ sin φ).
+                let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+                let (sin_phi, cos_phi) = phi.sin_cos();
+                let dpdu = 2.0 * PI * Vec3::new(local.z, 0.0, -local.x);
+                let dpdv = PI * Vec3::new(local.y * cos_phi, -r * sin_theta, -local.y * sin_phi);
+                let (dpdu, dpdv) = tangents_or_frame(dpdu, dpdv, n);
+                Some(ShapeHit { t, p, p_error, n, ns: n, uv: Vec2::new(u, v), dpdu, dpdv, face: 0 })
+            }
+            Some(c) => {
+                let pl = &c.placement;
+                let mut local = pl.point_to_local(ray.origin) + t * pl.vector_to_local(ray.dir);
+                local *= r / local.length();
+                if local.x == 0.0 && local.y == 0.0 {
+                    // On the axis φ is undefined: nudge off it (as pbrt).
+                    local.x = 1e-5 * r;
+                }
+                let mut phi = local.y.atan2(local.x);
+                if phi < 0.0 {
+                    phi += 2.0 * PI;
+                }
+                if (c.z_min > -r && local.z < c.z_min) || (c.z_max < r && local.z > c.z_max) || phi > c.phi_max {
+                    return None;
+                }
+                let u = phi / c.phi_max;
+                let cos_theta = (local.z / r).clamp(-1.0, 1.0);
+                let theta = cos_theta.acos();
+                let v = (theta - c.theta_z_min) / (c.theta_z_max - c.theta_z_min);
+                let z_radius = (local.x * local.x + local.y * local.y).sqrt();
+                let (cos_phi, sin_phi) = (local.x / z_radius, local.y / z_radius);
+                let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+                let dpdu = Vec3::new(-c.phi_max * local.y, c.phi_max * local.x, 0.0);
+                let dpdv =
+                    (c.theta_z_max - c.theta_z_min) * Vec3::new(local.z * cos_phi, local.z * sin_phi, -r * sin_theta);
+                let n_local = local / r;
+                let (dpdu, dpdv) = tangents_or_frame(dpdu, dpdv, n_local);
+                let (p, p_error) = pl.point_with_error_to_world(local, gamma(5) * local.abs());
+                let n = pl.vector_to_world(n_local);
+                Some(ShapeHit {
+                    t,
+                    p,
+                    p_error,
+                    n,
+                    ns: n,
+                    uv: Vec2::new(u, v),
+                    dpdu: pl.vector_to_world(dpdu),
+                    dpdv: pl.vector_to_world(dpdv),
+                    face: 0,
+                })
+            }
+        }
+    }
+}
+
+/// `(dpdu, dpdv)`, or a tangent frame around `n` where they are degenerate
+/// (at a pole, where `∂p/∂u` vanishes).
+#[inline]
+pub(crate) fn tangents_or_frame(dpdu: Vec3, dpdv: Vec3, n: Vec3) -> (Vec3, Vec3) {
+    let c = dpdu.cross(dpdv).length_squared();
+    if c > 0.0 && c.is_finite() {
+        (dpdu, dpdv)
+    } else {
+        coordinate_system(n)
     }
 }
 
@@ -330,6 +543,95 @@ mod tests {
         let x = s.sample_area(Vec2::new(0.3, 0.7)).unwrap();
         assert!(((x.p - s.center()).length() - 2.0).abs() < 1e-5);
         assert_eq!(x.pdf, 1.0 / s.area());
+    }
+
+    /// Central differences of the surface point against its uv, found by
+    /// intersecting rays aimed at points of given uv, agree with the
+    /// reported tangents; checked at a point where everything is exact.
+    #[test]
+    fn tangents_are_the_derivatives_of_the_parameterisation() {
+        // lucent's sphere at (r, 0, 0): φ = 0, θ = π/2.
+        let s = Sphere::new(Vec3::ZERO, 2.0).unwrap();
+        let h = s.intersect(&Ray::new(Vec3::new(5.0, 0.0, 0.0), -Vec3::X), f32::INFINITY).unwrap();
+        assert_eq!(h.uv, Vec2::new(0.0, 0.5));
+        assert!((h.dpdu - Vec3::new(0.0, 0.0, -4.0 * PI)).length() < 1e-5, "{}", h.dpdu);
+        assert!((h.dpdv - Vec3::new(0.0, -2.0 * PI, 0.0)).length() < 1e-5, "{}", h.dpdv);
+        // pbrt's full sphere at (r, 0, 0): ∂p/∂u = 2π (0, r, 0), ∂p/∂v =
+        // (θ_max − θ_min)(0, 0, −r) = (0, 0, π r), outward cross product.
+        let s = Sphere::partial(2.0, -2.0, 2.0, 360.0).unwrap();
+        let h = s.intersect(&Ray::new(Vec3::new(5.0, 0.0, 0.0), -Vec3::X), f32::INFINITY).unwrap();
+        assert_eq!(h.t, 3.0);
+        assert!((h.uv - Vec2::new(0.0, 0.5)).length() < 1e-6, "{}", h.uv);
+        assert!((h.dpdu - Vec3::new(0.0, 4.0 * PI, 0.0)).length() < 1e-5, "{}", h.dpdu);
+        assert!((h.dpdv - Vec3::new(0.0, 0.0, 2.0 * PI)).length() < 1e-5, "{}", h.dpdv);
+        assert_eq!(h.n, Vec3::X);
+        // At a general point: compare with finite differences of the
+        // parameterisation p(u, v) = r (sin θ cos φ, sin θ sin φ, cos θ).
+        let s = Sphere::partial(1.5, -1.0, 1.2, 270.0).unwrap();
+        let (tmin, tmax) = ((-1.0f32 / 1.5).acos(), (1.2f32 / 1.5).acos());
+        let at = |u: f32, v: f32| {
+            let (phi, theta) = (u * 270f32.to_radians(), tmin + v * (tmax - tmin));
+            1.5 * Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos())
+        };
+        let (u, v) = (0.4, 0.3);
+        let target = at(u, v);
+        let h = s.intersect(&Ray::new(3.0 * target, -target), f32::INFINITY).unwrap();
+        assert!((h.uv - Vec2::new(u, v)).length() < 1e-5, "{}", h.uv);
+        let e = 1e-3;
+        let du = (at(u + e, v) - at(u - e, v)) / (2.0 * e);
+        let dv = (at(u, v + e) - at(u, v - e)) / (2.0 * e);
+        assert!((h.dpdu - du).length() < 1e-3 * du.length(), "{} vs {du}", h.dpdu);
+        assert!((h.dpdv - dv).length() < 1e-3 * dv.length(), "{} vs {dv}", h.dpdv);
+    }
+
+    #[test]
+    fn partial_sphere_clips_and_shows_its_inside() {
+        // The cap z > 0.5 is cut off: a ray down the z axis passes through
+        // the hole and hits the inside of the bottom.
+        let s = Sphere::partial(1.0, -1.0, 0.5, 360.0).unwrap();
+        let h = s.intersect(&Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z), f32::INFINITY).unwrap();
+        assert!((h.t - 6.0).abs() < 1e-5, "{}", h.t);
+        // (On the axis φ is undefined and the point is nudged by 1e-5 r.)
+        assert!((h.n + Vec3::Z).length() < 1e-4);
+        // φ ≤ 90° keeps the wedge x, y ≥ 0: near (1, 0, 0) it is hit, near
+        // (−1, 0, 0) the ray passes through nothing.
+        let s = Sphere::partial(1.0, -1.0, 1.0, 90.0).unwrap();
+        let h = s.intersect(&Ray::new(Vec3::new(5.0, 0.1, 0.0), -Vec3::X), f32::INFINITY).unwrap();
+        assert!(h.p.x > 0.0);
+        assert!(!s.intersect_p(&Ray::new(Vec3::new(-5.0, -0.1, 0.0), Vec3::X), 5.5));
+        // Area of a zone: 2π r h; bounds clipped in z.
+        let s = Sphere::partial(2.0, -1.0, 1.0, 180.0).unwrap();
+        assert!((s.area() - PI * 2.0 * 2.0).abs() < 1e-5);
+        assert_eq!(s.bounds().min.z, -1.0);
+        assert!(Sphere::partial(1.0, 0.5, 0.5, 360.0).is_err());
+        assert!(Sphere::partial(1.0, -1.0, 1.0, 0.0).is_err());
+    }
+
+    #[test]
+    fn partial_sphere_pdf_integrates_to_one() {
+        let s = Sphere::partial(1.0, -0.5, 0.8, 200.0).unwrap();
+        let p = Vec3::new(0.1, 0.2, 0.3);
+        let mut rng = Pcg32::new(11, 12);
+        for _ in 0..500 {
+            let x = s.sample_solid_angle(p, Vec2::new(rng.uniform(), rng.uniform())).unwrap();
+            assert!((x.p.z >= -0.5 - 1e-5) && x.p.z <= 0.8 + 1e-5);
+            let mut phi = x.p.y.atan2(x.p.x);
+            if phi < 0.0 {
+                phi += 2.0 * PI;
+            }
+            assert!(phi <= 200f32.to_radians() + 1e-4);
+            assert!((s.pdf_solid_angle(p, x.p) - x.pdf).abs() <= 1e-3 * x.pdf);
+        }
+        let m = 400_000;
+        let mut sum = 0.0f64;
+        for _ in 0..m {
+            let w = uniform_sphere(Vec2::new(rng.uniform(), rng.uniform()));
+            if let Some(h) = s.intersect(&Ray::new(p, w), f32::INFINITY) {
+                sum += s.pdf_solid_angle(p, h.p) as f64;
+            }
+        }
+        let integral = sum / m as f64 * 4.0 * std::f64::consts::PI;
+        assert!((integral - 1.0).abs() < 0.02, "{integral}");
     }
 
     #[test]

@@ -16,7 +16,8 @@ pub const MAX_SPHERICAL_SAMPLE_AREA: f32 = 6.22;
 ///
 /// The geometric normal is `(p₁ - p₀) × (p₂ - p₀)`, normalised: counter-
 /// clockwise corners face the viewer. Texture coordinates are the
-/// barycentrics `(b₁, b₂)`.
+/// barycentrics `(b₁, b₂)` (corner uvs (0, 0), (1, 0), (0, 1)), so
+/// `∂p/∂u = p₁ − p₀` and `∂p/∂v = p₂ − p₀`.
 ///
 /// Sampled as a light uniformly over the spherical triangle it subtends
 /// (Arvo, "Stratified Sampling of Spherical Triangles", SIGGRAPH 1995; PBRT
@@ -215,11 +216,35 @@ impl Triangle {
             n,
             ns,
             uv: Vec2::new(b1, b2),
-            dpdu: crate::geometry::coordinate_system(n).0,
-            dpdv: crate::geometry::coordinate_system(n).1,
+            // uv = (b₁, b₂) is the parameterisation with corner uvs (0, 0),
+            // (1, 0), (0, 1): ∂p/∂u = p₁ − p₀, ∂p/∂v = p₂ − p₀.
+            dpdu: p1 - p0,
+            dpdv: p2 - p0,
             face: 0,
         })
     }
+}
+
+/// `∂p/∂u` and `∂p/∂v` of the triangle with corners `p` and corner texture
+/// coordinates `uv`: the solution of `p_i − p_2 = (u_i − u_2) ∂p/∂u + (v_i −
+/// v_2) ∂p/∂v` for `i = 0, 1` (PBRT 4th ed., §6.5.3, eq. 6.7). Where the
+/// uvs are degenerate (the 2×2 determinant vanishes, or the tangents are
+/// parallel) any tangent frame around the unit normal `n` is returned, as
+/// pbrt does.
+pub fn triangle_dpduv(p: [Vec3; 3], uv: [Vec2; 3], n: Vec3) -> (Vec3, Vec3) {
+    let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
+    let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
+    let det = duv02.x * duv12.y - duv02.y * duv12.x;
+    if det.abs() >= 1e-9 {
+        let inv = 1.0 / det;
+        let dpdu = (duv12.y * dp02 - duv02.y * dp12) * inv;
+        let dpdv = (duv02.x * dp12 - duv12.x * dp02) * inv;
+        let c = dpdu.cross(dpdv).length_squared();
+        if c > 0.0 && c.is_finite() {
+            return (dpdu, dpdv);
+        }
+    }
+    crate::geometry::coordinate_system(n)
 }
 
 /// Whether a triangle subtending `omega` sr is sampled spherically.

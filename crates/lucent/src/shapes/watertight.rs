@@ -216,6 +216,77 @@ pub fn intersect_block(
     t_min: f32,
     t_max: f32,
 ) -> Option<(usize, TriangleHit)> {
+    let hits = block_hits(r, block, t_min, t_max)?;
+    let mut mask = hits.mask;
+    // The nearest valid lane (the first of equals).
+    let ts = hits.t;
+    let mut lane = mask.trailing_zeros() as usize;
+    mask &= mask - 1;
+    while mask != 0 {
+        let l = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        if ts[l] < ts[lane] {
+            lane = l;
+        }
+    }
+    Some((lane, hits.hit(lane)))
+}
+
+/// As [`intersect_block`], but a lane counts only if `accept(lane, hit)`
+/// says so: the valid lanes are offered nearest first (the first of equals
+/// first) until one is accepted. For alpha cut-outs, where the nearest
+/// triangle of a block may not exist for this ray and the next one must be
+/// found.
+#[inline]
+pub fn intersect_block_filtered(
+    r: &WatertightRay,
+    block: &TriangleBlock,
+    t_min: f32,
+    t_max: f32,
+    mut accept: impl FnMut(usize, &TriangleHit) -> bool,
+) -> Option<(usize, TriangleHit)> {
+    let hits = block_hits(r, block, t_min, t_max)?;
+    let mut mask = hits.mask;
+    while mask != 0 {
+        let mut lane = mask.trailing_zeros() as usize;
+        let mut rest = mask & (mask - 1);
+        while rest != 0 {
+            let l = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            if hits.t[l] < hits.t[lane] {
+                lane = l;
+            }
+        }
+        let hit = hits.hit(lane);
+        if accept(lane, &hit) {
+            return Some((lane, hit));
+        }
+        mask &= !(1 << lane);
+    }
+    None
+}
+
+/// The lanes of a block that a ray hits, before one is chosen.
+struct BlockHits {
+    /// Bit `i` set: lane `i` is hit within the interval.
+    mask: u32,
+    t: [f32; 4],
+    e: [[f32; 4]; 3],
+    inv_det: [f32; 4],
+}
+
+impl BlockHits {
+    #[inline(always)]
+    fn hit(&self, lane: usize) -> TriangleHit {
+        let w = self.inv_det[lane];
+        TriangleHit { t: self.t[lane], b: [self.e[0][lane] * w, self.e[1][lane] * w, self.e[2][lane] * w] }
+    }
+}
+
+/// The arithmetic of [`intersect_block`] for every lane: which lanes are
+/// hit in `[t_min, t_max]`, with their distances and edge functions.
+#[inline(always)]
+fn block_hits(r: &WatertightRay, block: &TriangleBlock, t_min: f32, t_max: f32) -> Option<BlockHits> {
     let (a0x, a0y, az) = r.translate(&block.p[0]);
     let (b0x, b0y, bz) = r.translate(&block.p[1]);
     let (c0x, c0y, cz) = r.translate(&block.p[2]);
@@ -286,24 +357,16 @@ pub fn intersect_block(
         * (Vec4::splat(gamma(3)) * max_e * max_zt + delta_e * max_zt + delta_z * max_e)
         * inv_det.abs();
     let valid = candidates & t.cmpge(Vec4::splat(t_min)) & t.cmple(Vec4::splat(t_max)) & t.cmpgt(delta_t);
-    let mut mask = valid.bitmask();
+    let mask = valid.bitmask();
     if mask == 0 {
         return None;
     }
-    // The nearest valid lane (the first of equals).
-    let ts = t.to_array();
-    let mut lane = mask.trailing_zeros() as usize;
-    mask &= mask - 1;
-    while mask != 0 {
-        let l = mask.trailing_zeros() as usize;
-        mask &= mask - 1;
-        if ts[l] < ts[lane] {
-            lane = l;
-        }
-    }
-    let w = inv_det.to_array()[lane];
-    let b = [e0.to_array()[lane] * w, e1.to_array()[lane] * w, e2.to_array()[lane] * w];
-    Some((lane, TriangleHit { t: ts[lane], b }))
+    Some(BlockHits {
+        mask,
+        t: t.to_array(),
+        e: [e0.to_array(), e1.to_array(), e2.to_array()],
+        inv_det: inv_det.to_array(),
+    })
 }
 
 #[cfg(test)]

@@ -96,7 +96,7 @@ pub fn uv_sphere(stacks: u32, slices: u32) -> Result<TriangleMesh, MeshError> {
 
     let mut normals = vec_with_capacity(nv, "normals", name.as_ref())?;
     normals.extend(positions.iter().map(|p| p.normalize()));
-    Ok(TriangleMesh { positions, indices, normals: Some(normals), material_ids: None, materials: Vec::new() })
+    Ok(TriangleMesh { positions, indices, normals: Some(normals), ..Default::default() })
 }
 
 #[cfg(test)]
