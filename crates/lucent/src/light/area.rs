@@ -27,17 +27,28 @@ pub struct AreaLight {
     pub shape: Shape,
     /// Emitted radiance.
     pub radiance: Color,
-    /// Whether both sides emit (otherwise only the front: a triangle's
-    /// normal side, a sphere's outside).
+    /// Whether both sides emit (otherwise only one: the front, or the back
+    /// when `reverse`).
     pub two_sided: bool,
+    /// Whether a one-sided light emits from its back instead of its front:
+    /// the side opposite the shape's own normal (a triangle's winding
+    /// normal, a sphere's outward normal), as pbrt-v4's one-sided area
+    /// lights under `ReverseOrientation` (PBRT 4th ed., §12.3: the light
+    /// emits on the side of the surface normal, which `ReverseOrientation`
+    /// flips). No effect when two-sided.
+    pub reverse: bool,
 }
 
 impl AreaLight {
     /// Radiance leaving a point of the light with unit geometric normal `n`
-    /// (the shape's own orientation) in direction `w`.
+    /// (the shape's own orientation) in direction `w`: towards the side of
+    /// `n` (the side opposite `n` when [`AreaLight::reverse`]), or either
+    /// side when two-sided.
     #[inline]
     pub fn l(&self, n: Vec3, w: Vec3) -> Color {
-        if self.two_sided || n.dot(w) > 0.0 {
+        let cos = n.dot(w);
+        let emits = if self.reverse { cos < 0.0 } else { cos > 0.0 };
+        if self.two_sided || emits {
             self.radiance
         } else {
             Color::ZERO
@@ -45,7 +56,7 @@ impl AreaLight {
     }
 
     /// Radiance leaving the point `p` of the light in direction `w`, with
-    /// the front side decided by the light's own geometry
+    /// the emitting side ([`AreaLight::l`]) decided by the light's own geometry
     /// ([`Shape::front_side`]: a triangle's winding, a sphere's outside),
     /// whatever normal the intersection reported.
     #[inline]
@@ -153,7 +164,12 @@ mod tests {
     fn sphere_irradiance_matches_the_analytic_value() {
         // E = π L (r/d)² on a surface facing a sphere of radius r at distance d.
         let (r, d, l) = (0.5f32, 3.0f32, 2.0f32);
-        let light = AreaLight { shape: sphere(Vec3::new(0.0, 0.0, d), r), radiance: Color::splat(l), two_sided: false };
+        let light = AreaLight {
+            shape: sphere(Vec3::new(0.0, 0.0, d), r),
+            radiance: Color::splat(l),
+            two_sided: false,
+            reverse: false,
+        };
         let want = (PI * l * (r / d).powi(2)) as f64;
         assert_close(irradiance(&light, &ctx(Vec3::ZERO, Vec3::Z), 50_000, 1), want);
         // A tiny, distant sphere takes the small-angle branch.
@@ -167,7 +183,8 @@ mod tests {
     #[test]
     fn inside_a_sphere_sees_uniform_radiance() {
         // An enclosure of uniform radiance L gives E = π L whatever the normal.
-        let light = AreaLight { shape: sphere(Vec3::ZERO, 2.0), radiance: Color::splat(1.5), two_sided: true };
+        let light =
+            AreaLight { shape: sphere(Vec3::ZERO, 2.0), radiance: Color::splat(1.5), two_sided: true, reverse: false };
         let c = ctx(Vec3::new(0.5, 1.0, -0.3), Vec3::new(1.0, 1.0, 0.0).normalize());
         assert_close(irradiance(&light, &c, 100_000, 3), (PI * 1.5) as f64);
         // One-sided: only the outside emits, so nothing arrives inside.
@@ -200,7 +217,7 @@ mod tests {
         let tri = [Vec3::new(-1.0, 2.0, -0.5), Vec3::new(1.5, 2.2, -0.3), Vec3::new(0.2, 2.5, 1.5)];
         // Front faces −y: wind so that the normal points at the origin.
         let front = if (tri[1] - tri[0]).cross(tri[2] - tri[0]).y < 0.0 { tri } else { [tri[0], tri[2], tri[1]] };
-        let light = AreaLight { shape: triangle(front), radiance: Color::splat(3.0), two_sided: false };
+        let light = AreaLight { shape: triangle(front), radiance: Color::splat(3.0), two_sided: false, reverse: false };
         let n = Vec3::new(0.2, 1.0, 0.1).normalize();
         let spherical = MIN_SPHERICAL_SAMPLE_AREA..=MAX_SPHERICAL_SAMPLE_AREA;
         // Spherical sampling at moderate distance.
@@ -230,15 +247,38 @@ mod tests {
     fn one_sided_triangle_is_dark_from_behind() {
         let v = [Vec3::new(-1.0, 1.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 1.0)];
         // Normal of this winding: (2,0,0) × (1,0,1) = (0,-2,0): faces −y.
-        let one = AreaLight { shape: triangle(v), radiance: Color::ONE, two_sided: false };
+        let one = AreaLight { shape: triangle(v), radiance: Color::ONE, two_sided: false, reverse: false };
         let below = ctx(Vec3::ZERO, Vec3::Y);
         let above = ctx(Vec3::new(0.0, 2.0, 0.3), -Vec3::Y);
         assert!(irradiance(&one, &below, 1000, 1).0 > 0.0);
         assert_eq!(irradiance(&one, &above, 1000, 1).0, 0.0);
         assert_eq!(one.emitted(Vec3::new(0.0, 1.0, 0.3), Vec3::Y), Color::ZERO);
         assert_eq!(one.emitted(Vec3::new(0.0, 1.0, 0.3), -Vec3::Y), Color::ONE);
-        let two = AreaLight { two_sided: true, ..one };
+        let two = AreaLight { two_sided: true, ..one.clone() };
         assert!(irradiance(&two, &above, 1000, 1).0 > 0.0);
+        // Reversed: the back emits, the front is dark.
+        let back = AreaLight { reverse: true, ..one.clone() };
+        assert_eq!(irradiance(&back, &below, 1000, 1).0, 0.0);
+        let (e_back, e_front) = (irradiance(&back, &above, 20_000, 2).0, irradiance(&one, &below, 20_000, 2).0);
+        assert!(e_back > 0.0 && e_front > 0.0);
+        assert_eq!(back.emitted(Vec3::new(0.0, 1.0, 0.3), Vec3::Y), Color::ONE);
+        assert_eq!(back.emitted(Vec3::new(0.0, 1.0, 0.3), -Vec3::Y), Color::ZERO);
+        assert_eq!(back.l(-Vec3::Y, Vec3::Y), Color::ONE);
+        // Two-sided lights ignore it.
+        let both = AreaLight { two_sided: true, ..back };
+        assert_eq!(both.emitted(Vec3::new(0.0, 1.0, 0.3), -Vec3::Y), Color::ONE);
+    }
+
+    #[test]
+    fn reversed_sphere_emits_inwards() {
+        // A one-sided sphere reversed lights its inside (uniform radiance L
+        // in an enclosure gives E = π L) and not its outside.
+        let light =
+            AreaLight { shape: sphere(Vec3::ZERO, 2.0), radiance: Color::splat(1.5), two_sided: false, reverse: true };
+        let inside = ctx(Vec3::new(0.5, 1.0, -0.3), Vec3::new(1.0, 1.0, 0.0).normalize());
+        assert_close(irradiance(&light, &inside, 100_000, 3), (PI * 1.5) as f64);
+        assert_eq!(irradiance(&light, &ctx(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z), 1000, 4).0, 0.0);
+        assert_eq!(light.power(), AreaLight { reverse: false, ..light.clone() }.power());
     }
 
     #[test]
@@ -247,6 +287,7 @@ mod tests {
             shape: triangle([Vec3::ZERO, Vec3::X, Vec3::Y]),
             radiance: Color::splat(2.0),
             two_sided: false,
+            reverse: false,
         };
         assert!((tri.area() - 0.5).abs() < 1e-6);
         assert!((tri.power() - PI * 0.5 * 2.0).abs() < 1e-5);
@@ -264,6 +305,7 @@ mod tests {
             shape: Shape::Triangle(Triangle::new_unchecked([Vec3::ZERO, Vec3::X, 2.0 * Vec3::X])),
             radiance: Color::ONE,
             two_sided: true,
+            reverse: false,
         };
         assert_eq!(flat.power(), 0.0);
         let c = ctx(Vec3::new(0.5, 1.0, 0.0), -Vec3::Y);

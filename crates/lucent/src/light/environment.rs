@@ -1,9 +1,15 @@
 //! Environment lights: radiance arriving from infinitely far away.
 //!
+//! An [`Environment::Image`] is an image covering the whole sphere of
+//! directions in one of two ways ([`EnvironmentMapping`]): the
+//! latitude–longitude (equirectangular) mapping below, `+y` up, or pbrt-v4's
+//! square equal-area octahedral mapping ([`super::equal_area`]), `+z` up.
+//! Either is placed in the world by a rotation (the map's own "light space"
+//! to world), possibly with a mirror: see [`MapOptions`].
+//!
 //! # The equirectangular (latitude–longitude) mapping
 //!
-//! An [`Environment::Image`] is a `width × height` image (usually
-//! `width = 2 height`) covering the whole sphere of directions. `+y` is up.
+//! A `width × height` image (usually `width = 2 height`). `+y` is up.
 //! A unit direction `d = (x, y, z)` in the environment's own frame (before
 //! its rotation, see below) has
 //!
@@ -21,26 +27,43 @@
 //! mirrored). Pixel `(i, j)` (column `i` from the left, row `j` from the top)
 //! covers `u ∈ [i/w, (i+1)/w)`, `v ∈ [j/h, (j+1)/h)`.
 //!
-//! A rotation of `R` degrees turns the environment about `+y`
+//! A rotation of `R` degrees ([`EnvironmentMap::new`],
+//! [`Environment::from_file`]) turns the environment about `+y`
 //! counter-clockwise seen from above (the right-hand rule): what the image
 //! centre shows moves from `−z` to `(−sin R, 0, −cos R)`.
 //!
-//! **Lookup** is nearest-pixel: the radiance is piecewise constant over the
+//! # The equal-area mapping
+//!
+//! A square image; pixel `(i, j)` (row `j` from the top of the file) covers
+//! `u ∈ [i/w, (i+1)/w)`, `v ∈ [j/h, (j+1)/h)` of
+//! [`equal_area_square_to_sphere`] (pbrt-v4's `ImageInfiniteLight`, whose
+//! images index `(x, y)` the same way, `y = 0` the first row of the file).
+//! The centre is the light-space zenith `+z`, the corners the nadir. Every
+//! pixel covers the same solid angle `4π / (w h)`.
+//!
+//! # Lookup and sampling
+//!
+//! **Lookup** is nearest-pixel (as pbrt-v4's `ImageInfiniteLight::ImageLe`;
+//! the equal-area map folds indices across its edges with
+//! [`wrap_octahedral_pixel`]): the radiance is piecewise constant over the
 //! pixels, exactly the function the importance-sampling distribution is
 //! built from, so sampling is consistent with [`Environment::le`].
 //!
-//! **Importance sampling** (PBRT 4th ed., §12.5.2, in the lat-long form of
-//! PBRT 3rd ed. §14.2.4): a [`PiecewiseConstant2D`] over `(u, v)` with
-//! pixel values `luminance · sin θ` (θ at the pixel's centre row), so that
-//! directions are chosen by the energy they carry; since
-//! `dω = sin θ dθ dφ = 2π² sin θ du dv`, the solid-angle density is
-//! `p(ω) = p(u, v) / (2π² sin θ)`.
+//! **Importance sampling** (PBRT 4th ed., §12.5.2): a
+//! [`PiecewiseConstant2D`] over `(u, v)`, so that directions are chosen by
+//! the energy they carry. For the equal-area map its values are the pixel
+//! luminances and the solid-angle density is `p(ω) = p(u, v) / (4π)`. For
+//! the lat-long map (in the form of PBRT 3rd ed. §14.2.4) they are
+//! `luminance · sin θ` (θ at the pixel's centre row); since
+//! `dω = sin θ dθ dφ = 2π² sin θ du dv`, `p(ω) = p(u, v) / (2π² sin θ)`.
 
 use super::emitter::{LiSample, LightSampleContext};
+use super::equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere, wrap_octahedral_pixel};
 use crate::color::{luminance, Color};
-use crate::geometry::{Vec2, Vec3};
+use crate::geometry::{Transform, Vec2, Vec3};
 use crate::sampling::{uniform_sphere, PiecewiseConstant2D};
 use crate::texels::{check_image_size, ImageSizeError, TexelGrid};
+use glam::Mat3;
 use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -50,8 +73,82 @@ use std::sync::Arc;
 pub enum Environment {
     /// The same radiance from every direction.
     Constant(Color),
-    /// An equirectangular image (see the module docs for the mapping).
+    /// An image, lat-long or equal-area (see the module docs for the
+    /// mappings).
     Image(Arc<EnvironmentMap>),
+}
+
+/// How an environment image covers the sphere of directions (see the
+/// module docs).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum EnvironmentMapping {
+    /// Latitude–longitude, `+y` up, the image centre towards `−z`
+    /// ([`equirect_direction`]): lucent's own scene files.
+    #[default]
+    Equirectangular,
+    /// pbrt-v4's square equal-area octahedral map, `+z` up, the image
+    /// centre the zenith ([`equal_area_square_to_sphere`]).
+    EqualArea,
+}
+
+impl EnvironmentMapping {
+    /// The map's zenith in its own frame: `+y` for lat-long, `+z` for
+    /// equal-area.
+    pub fn up(self) -> Vec3 {
+        match self {
+            EnvironmentMapping::Equirectangular => Vec3::Y,
+            EnvironmentMapping::EqualArea => Vec3::Z,
+        }
+    }
+
+    /// The unit direction, in the map's own frame, at `uv ∈ [0, 1]²`.
+    pub fn direction(self, uv: Vec2) -> Vec3 {
+        match self {
+            EnvironmentMapping::Equirectangular => equirect_direction(uv),
+            EnvironmentMapping::EqualArea => equal_area_square_to_sphere(uv),
+        }
+    }
+
+    /// The `uv ∈ [0, 1]²` of unit direction `d` in the map's own frame.
+    pub fn uv(self, d: Vec3) -> Vec2 {
+        match self {
+            EnvironmentMapping::Equirectangular => equirect_uv(d),
+            EnvironmentMapping::EqualArea => equal_area_sphere_to_square(d),
+        }
+    }
+}
+
+/// How an environment image is placed and scaled (pbrt-v4's `infinite`
+/// light with a `filename`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapOptions {
+    /// The mapping of the image.
+    pub mapping: EnvironmentMapping,
+    /// The map's own frame to world (pbrt-v4: the CTM at the
+    /// `LightSource`). Its linear part must be a rotation, possibly with a
+    /// mirror and a uniform scale (both allowed, the scale ignored); the
+    /// translation is ignored.
+    pub light_to_world: Transform,
+    /// Multiplies the radiance.
+    pub scale: f32,
+    /// When given (and > 0), the radiance is also scaled so that the
+    /// illuminance (luminance) on a surface facing the map's zenith (its
+    /// [`EnvironmentMapping::up`], carried to the world) is this value,
+    /// times `scale` (pbrt-v4's `illuminance`; `None` or a value ≤ 0: no
+    /// normalisation, as pbrt's default `-1`).
+    pub illuminance: Option<f32>,
+}
+
+impl Default for MapOptions {
+    /// pbrt-v4's defaults: an equal-area map, not rotated, scale 1.
+    fn default() -> Self {
+        Self {
+            mapping: EnvironmentMapping::EqualArea,
+            light_to_world: Transform::IDENTITY,
+            scale: 1.0,
+            illuminance: None,
+        }
+    }
 }
 
 /// Why an environment image cannot be used.
@@ -115,15 +212,47 @@ pub enum EnvironmentError {
     /// The rotation is not finite.
     #[error("environment map rotation must be a finite number of degrees, got {0}")]
     Rotation(f32),
+    /// The transform is not a rotation (with perhaps a mirror and a uniform
+    /// scale).
+    #[error("an environment map's transform must be a rotation (possibly mirrored, with a uniform scale); it cannot shear or stretch the sphere of directions")]
+    Transform,
+    /// An equal-area map must be square.
+    #[error("environment map '{path}': an equal-area (octahedral) map must be square, got {width}×{height} (a lat-long map is usually 2:1: use the equirectangular mapping)")]
+    NotSquare {
+        /// The file (or `<memory>`).
+        path: PathBuf,
+        /// Width.
+        width: u32,
+        /// Height.
+        height: u32,
+    },
+    /// A uniform radiance is negative or not finite.
+    #[error("environment radiance must be finite and ≥ 0 in every channel")]
+    Radiance,
+    /// The illuminance is not finite.
+    #[error("environment map illuminance must be a finite number, got {0}")]
+    Illuminance(f32),
+    /// An illuminance was asked for, but the map sends no light onto a
+    /// surface facing its zenith.
+    #[error("environment map '{path}': cannot scale to an illuminance, the map's upper hemisphere is black")]
+    BlackHemisphere {
+        /// The file (or `<memory>`).
+        path: PathBuf,
+    },
 }
 
-/// An equirectangular environment image with its sampling distribution.
+/// An environment image with its mapping, placement and sampling
+/// distribution.
 #[derive(Clone)]
 pub struct EnvironmentMap {
     /// Radiance, scale applied, row by row from the top (`v = 0`).
     texels: TexelGrid,
-    /// `(cos R, sin R)` of the rotation about `+y`.
-    rotation: (f32, f32),
+    mapping: EnvironmentMapping,
+    /// The map's own frame to world: orthogonal (a rotation, perhaps
+    /// mirrored).
+    to_world: Mat3,
+    /// World to the map's frame: the transpose of `to_world`.
+    to_local: Mat3,
     distribution: PiecewiseConstant2D,
 }
 
@@ -132,7 +261,8 @@ impl std::fmt::Debug for EnvironmentMap {
         f.debug_struct("EnvironmentMap")
             .field("width", &self.width())
             .field("height", &self.height())
-            .field("rotation", &self.rotation)
+            .field("mapping", &self.mapping)
+            .field("to_world", &self.to_world)
             .finish_non_exhaustive()
     }
 }
@@ -156,10 +286,69 @@ pub fn equirect_uv(d: Vec3) -> Vec2 {
     Vec2::new((0.5 + phi / (2.0 * PI)).clamp(0.0, 1.0), (theta / PI).clamp(0.0, 1.0))
 }
 
+/// The orthogonal matrix of a transform that rotates (perhaps with a mirror)
+/// and scales uniformly: its linear part divided by the scale.
+fn orthogonal_part(t: &Transform) -> Result<Mat3, EnvironmentError> {
+    let m = Mat3::from_mat4(t.matrix());
+    let s2 = m.x_axis.length_squared();
+    if !(s2 > 0.0 && s2.is_finite()) {
+        return Err(EnvironmentError::Transform);
+    }
+    let q = m * (1.0 / s2.sqrt());
+    let gram = q.transpose() * q;
+    let off = (gram - Mat3::IDENTITY).to_cols_array().iter().fold(0.0f32, |a, v| a.max(v.abs()));
+    if off > 1e-4 {
+        return Err(EnvironmentError::Transform);
+    }
+    Ok(q)
+}
+
+/// Illuminance (luminance) on a surface facing the map's zenith, in the
+/// map's own frame, of the raw `pixels`: `E = Σ_i lum(L_i) ∫_{pixel i}
+/// max(0, cos θ) dω`.
+///
+/// For the lat-long map the integral is exact per row (rows wholly above
+/// or below the horizon, and one straddling it when `h` is odd): `∫ cos θ
+/// sin θ dθ dφ = (Δφ/2)(sin² θ₁ − sin² θ₀)`. For the equal-area map, whose
+/// pixels all cover `4π / (w h)`, the cosine is taken at each pixel's centre
+/// (as pbrt-v4's `infinite` light does, though pbrt-v4 weighs each pixel by
+/// `2π / (w h)`, half its solid angle, so its maps come out twice as bright
+/// as the illuminance asked for; lucent uses the solid angle).
+fn upper_illuminance(mapping: EnvironmentMapping, width: u32, height: u32, pixels: &[Color]) -> f64 {
+    let (w, h) = (width as usize, height as usize);
+    let mut sum = 0.0f64;
+    match mapping {
+        EnvironmentMapping::Equirectangular => {
+            let dphi = 2.0 * std::f64::consts::PI / w as f64;
+            for y in 0..h {
+                let t0 = std::f64::consts::PI * y as f64 / h as f64;
+                let t1 = (std::f64::consts::PI * (y + 1) as f64 / h as f64).min(std::f64::consts::FRAC_PI_2);
+                if t1 <= t0 {
+                    break;
+                }
+                let weight = 0.5 * dphi * (t1.sin().powi(2) - t0.sin().powi(2));
+                let row: f64 = pixels[y * w..(y + 1) * w].iter().map(|&c| luminance(c) as f64).sum();
+                sum += weight * row;
+            }
+        }
+        EnvironmentMapping::EqualArea => {
+            let omega = 4.0 * std::f64::consts::PI / (w * h) as f64;
+            for (i, &c) in pixels.iter().enumerate() {
+                let uv = Vec2::new(((i % w) as f32 + 0.5) / w as f32, ((i / w) as f32 + 0.5) / h as f32);
+                let cos = equal_area_square_to_sphere(uv).z;
+                if cos > 0.0 {
+                    sum += omega * cos as f64 * luminance(c) as f64;
+                }
+            }
+        }
+    }
+    sum
+}
+
 impl EnvironmentMap {
-    /// A map from `pixels` (linear RGB, row by row from the top), multiplied
-    /// by `scale` and turned by `rotation` degrees about `+y`. Negative
-    /// components are clamped to zero; non-finite ones are refused.
+    /// A lat-long map from `pixels` (linear RGB, row by row from the top),
+    /// multiplied by `scale` and turned by `rotation` degrees about `+y`.
+    /// Negative components are clamped to zero; non-finite ones are refused.
     pub fn new(
         width: u32,
         height: u32,
@@ -167,24 +356,60 @@ impl EnvironmentMap {
         scale: f32,
         rotation: f32,
     ) -> Result<Self, EnvironmentError> {
-        Self::build(Path::new("<memory>"), width, height, pixels, scale, rotation)
+        if !rotation.is_finite() {
+            return Err(EnvironmentError::Rotation(rotation));
+        }
+        let q = Mat3::from_rotation_y(rotation.to_radians());
+        Self::build(Path::new("<memory>"), width, height, pixels, EnvironmentMapping::Equirectangular, q, scale, None)
     }
 
+    /// A map from `pixels` (linear RGB, row by row from the top), with the
+    /// mapping, placement and scale of `options`. An equal-area map must be
+    /// square. Negative components are clamped to zero; non-finite ones are
+    /// refused.
+    pub fn with_options(
+        width: u32,
+        height: u32,
+        pixels: Vec<Color>,
+        options: &MapOptions,
+    ) -> Result<Self, EnvironmentError> {
+        Self::from_options(Path::new("<memory>"), width, height, pixels, options)
+    }
+
+    fn from_options(
+        path: &Path,
+        width: u32,
+        height: u32,
+        pixels: Vec<Color>,
+        options: &MapOptions,
+    ) -> Result<Self, EnvironmentError> {
+        let q = orthogonal_part(&options.light_to_world)?;
+        Self::build(path, width, height, pixels, options.mapping, q, options.scale, options.illuminance)
+    }
+
+    #[allow(clippy::too_many_arguments)]
     fn build(
         path: &Path,
         width: u32,
         height: u32,
         pixels: Vec<Color>,
+        mapping: EnvironmentMapping,
+        to_world: Mat3,
         scale: f32,
-        rotation: f32,
+        illuminance: Option<f32>,
     ) -> Result<Self, EnvironmentError> {
         if !(scale >= 0.0 && scale.is_finite()) {
             return Err(EnvironmentError::Scale(scale));
         }
-        if !rotation.is_finite() {
-            return Err(EnvironmentError::Rotation(rotation));
+        if let Some(e) = illuminance {
+            if !e.is_finite() {
+                return Err(EnvironmentError::Illuminance(e));
+            }
         }
         check_image_size(width, height).map_err(|source| EnvironmentError::Size { path: path.to_owned(), source })?;
+        if mapping == EnvironmentMapping::EqualArea && width != height {
+            return Err(EnvironmentError::NotSquare { path: path.to_owned(), width, height });
+        }
         let len = pixels.len();
         let mut texels = TexelGrid::from_pixels(width, height, pixels).ok_or_else(|| EnvironmentError::PixelCount {
             path: path.to_owned(),
@@ -197,21 +422,39 @@ impl EnvironmentMap {
                 let (x, y) = ((i % width as usize) as u32, (i / width as usize) as u32);
                 return Err(EnvironmentError::NonFinite { path: path.to_owned(), x, y });
             }
-            *c = c.max(Color::ZERO) * scale;
+            *c = c.max(Color::ZERO);
+        }
+        // pbrt-v4: scale ← scale · E_v / E(map), with E(map) measured on the
+        // unscaled image.
+        let mut factor = scale;
+        if let Some(e_v) = illuminance.filter(|&e| e > 0.0) {
+            let e_map = upper_illuminance(mapping, width, height, texels.pixels());
+            if !(e_map > 0.0 && e_map.is_finite()) {
+                return Err(EnvironmentError::BlackHemisphere { path: path.to_owned() });
+            }
+            factor = (scale as f64 * e_v as f64 / e_map) as f32;
+        }
+        if factor != 1.0 {
+            for c in texels.pixels_mut() {
+                *c *= factor;
+            }
         }
         let (w, h) = (width as usize, height as usize);
-        let weights: Vec<f32> = texels
-            .pixels()
-            .iter()
-            .enumerate()
-            .map(|(i, &c)| {
-                let theta = PI * ((i / w) as f32 + 0.5) / h as f32;
-                luminance(c) * theta.sin()
-            })
-            .collect();
+        let weights: Vec<f32> = match mapping {
+            EnvironmentMapping::Equirectangular => texels
+                .pixels()
+                .iter()
+                .enumerate()
+                .map(|(i, &c)| {
+                    let theta = PI * ((i / w) as f32 + 0.5) / h as f32;
+                    luminance(c) * theta.sin()
+                })
+                .collect(),
+            // Equal-area: every pixel covers the same solid angle.
+            EnvironmentMapping::EqualArea => texels.pixels().iter().map(|&c| luminance(c)).collect(),
+        };
         let distribution = PiecewiseConstant2D::new(&weights, w, h);
-        let r = rotation.to_radians();
-        Ok(Self { texels, rotation: (r.cos(), r.sin()), distribution })
+        Ok(Self { texels, mapping, to_world, to_local: to_world.transpose(), distribution })
     }
 
     /// Width in pixels.
@@ -224,6 +467,11 @@ impl EnvironmentMap {
         self.texels.height()
     }
 
+    /// The mapping of the image.
+    pub fn mapping(&self) -> EnvironmentMapping {
+        self.mapping
+    }
+
     /// The radiance of pixel `(x, y)` (scale applied; row 0 at the top).
     pub fn pixel(&self, x: u32, y: u32) -> Color {
         self.texels.pixel(x, y)
@@ -234,48 +482,115 @@ impl EnvironmentMap {
         &self.texels
     }
 
-    /// World direction → the map's own frame: turn by `−R` about `+y`.
-    #[inline]
-    fn to_local(&self, d: Vec3) -> Vec3 {
-        let (c, s) = self.rotation;
-        Vec3::new(c * d.x - s * d.z, d.y, s * d.x + c * d.z)
+    /// The map's zenith ([`EnvironmentMapping::up`]) in world space.
+    pub fn up(&self) -> Vec3 {
+        self.to_world * self.mapping.up()
     }
 
-    /// The map's own frame → world: turn by `R` about `+y` (right-hand rule).
+    /// Illuminance (luminance) on a surface facing [`EnvironmentMap::up`]
+    /// (see [`MapOptions::illuminance`]; for an equal-area map the cosine is
+    /// taken at the pixel centres).
+    pub fn illuminance(&self) -> f32 {
+        upper_illuminance(self.mapping, self.width(), self.height(), self.texels.pixels()) as f32
+    }
+
+    /// World direction → the map's own frame.
+    #[inline]
+    fn to_local(&self, d: Vec3) -> Vec3 {
+        self.to_local * d
+    }
+
+    /// The map's own frame → world.
     #[inline]
     fn to_world(&self, d: Vec3) -> Vec3 {
-        let (c, s) = self.rotation;
-        Vec3::new(c * d.x + s * d.z, d.y, -s * d.x + c * d.z)
+        self.to_world * d
     }
 
     /// The pixel at `(u, v)`.
     #[inline]
     fn lookup(&self, uv: Vec2) -> Color {
         let (w, h) = (self.width(), self.height());
-        let x = ((uv.x * w as f32) as u32).min(w - 1);
-        let y = ((uv.y * h as f32) as u32).min(h - 1);
-        self.pixel(x, y)
+        match self.mapping {
+            EnvironmentMapping::Equirectangular => {
+                let x = ((uv.x * w as f32) as u32).min(w - 1);
+                let y = ((uv.y * h as f32) as u32).min(h - 1);
+                self.pixel(x, y)
+            }
+            EnvironmentMapping::EqualArea => {
+                // uv = 1 reaches index w: fold it across the edge.
+                let (x, y) = wrap_octahedral_pixel((uv.x * w as f32) as i64, (uv.y * h as f32) as i64, w, h);
+                self.pixel(x, y)
+            }
+        }
     }
 
     /// Radiance seen along world direction `dir`.
     pub fn le(&self, dir: Vec3) -> Color {
-        self.lookup(equirect_uv(self.to_local(dir)))
+        self.lookup(self.uv_of(dir))
+    }
+
+    /// The `uv` of world direction `dir` (any length).
+    #[inline]
+    fn uv_of(&self, dir: Vec3) -> Vec2 {
+        let d = self.to_local(dir);
+        match self.mapping {
+            // atan2 of the components: any length will do.
+            EnvironmentMapping::Equirectangular => equirect_uv(d),
+            EnvironmentMapping::EqualArea => equal_area_sphere_to_square(d.normalize_or_zero()),
+        }
+    }
+
+    /// `Σ_i lum(L_i) Ω_i` over the pixels, `Ω_i` the solid angle of pixel
+    /// `i`: `(2π / w)(cos θ₀ − cos θ₁)` for a lat-long row, `4π / (w h)` for
+    /// an equal-area map.
+    fn fluence(&self) -> f64 {
+        let (w, h) = (self.width() as usize, self.height() as usize);
+        let pixels = self.texels.pixels();
+        match self.mapping {
+            EnvironmentMapping::Equirectangular => {
+                let mut sum = 0.0f64;
+                for y in 0..h {
+                    let t0 = PI as f64 * y as f64 / h as f64;
+                    let t1 = PI as f64 * (y + 1) as f64 / h as f64;
+                    let omega = 2.0 * std::f64::consts::PI / w as f64 * (t0.cos() - t1.cos());
+                    let row: f64 = pixels[y * w..(y + 1) * w].iter().map(|&c| luminance(c) as f64).sum();
+                    sum += row * omega;
+                }
+                sum
+            }
+            EnvironmentMapping::EqualArea => {
+                let total: f64 = pixels.iter().map(|&c| luminance(c) as f64).sum();
+                total * 4.0 * std::f64::consts::PI / (w * h) as f64
+            }
+        }
     }
 
     /// Total radiant power (luminance) falling on a disk of radius `r`:
-    /// `Φ = π r² Σ L_i Ω_i`, with `Ω_i = (2π / w)(cos θ₀ − cos θ₁)` the solid
-    /// angle of pixel `i` (PBRT 4th ed., §12.5.2, for a lat-long map).
+    /// `Φ = π r² Σ L_i Ω_i`, with `Ω_i` the solid angle of pixel `i` (PBRT
+    /// 4th ed., §12.5.2).
     pub fn power(&self, r: f32) -> f32 {
-        let (w, h) = (self.width() as usize, self.height() as usize);
-        let mut sum = 0.0f64;
-        for y in 0..h {
-            let t0 = PI as f64 * y as f64 / h as f64;
-            let t1 = PI as f64 * (y + 1) as f64 / h as f64;
-            let omega = 2.0 * std::f64::consts::PI / w as f64 * (t0.cos() - t1.cos());
-            let row: f64 = self.texels.pixels()[y * w..(y + 1) * w].iter().map(|&c| luminance(c) as f64).sum();
-            sum += row * omega;
+        (std::f64::consts::PI * (r as f64) * (r as f64) * self.fluence()) as f32
+    }
+
+    /// The solid-angle density of a direction at `uv` whose square density
+    /// is `pdf_uv`; 0 where the mapping degenerates.
+    #[inline]
+    fn solid_angle_pdf(&self, uv: Vec2, pdf_uv: f32) -> f32 {
+        let pdf = match self.mapping {
+            EnvironmentMapping::Equirectangular => {
+                let sin_theta = (PI * uv.y).sin();
+                if sin_theta.is_nan() || sin_theta <= 0.0 {
+                    return 0.0;
+                }
+                pdf_uv / (2.0 * PI * PI * sin_theta)
+            }
+            EnvironmentMapping::EqualArea => pdf_uv / (4.0 * PI),
+        };
+        if pdf.is_finite() {
+            pdf
+        } else {
+            0.0
         }
-        (std::f64::consts::PI * (r as f64) * (r as f64) * sum) as f32
     }
 
     fn sample_li(&self, u: Vec2) -> Option<LiSample> {
@@ -283,28 +598,18 @@ impl EnvironmentMap {
         if pdf_uv.is_nan() || pdf_uv <= 0.0 {
             return None;
         }
-        let sin_theta = (PI * uv.y).sin();
-        if sin_theta.is_nan() || sin_theta <= 0.0 {
+        let pdf = self.solid_angle_pdf(uv, pdf_uv);
+        if pdf <= 0.0 {
             return None;
         }
-        let pdf = pdf_uv / (2.0 * PI * PI * sin_theta);
-        let wi = self.to_world(equirect_direction(uv));
+        let wi = self.to_world(self.mapping.direction(uv));
         let l = self.lookup(uv);
-        (l != Color::ZERO && pdf.is_finite()).then_some(LiSample { l, wi, pdf, p_light: None })
+        (l != Color::ZERO).then_some(LiSample { l, wi, pdf, p_light: None })
     }
 
     fn pdf_li(&self, wi: Vec3) -> f32 {
-        let uv = equirect_uv(self.to_local(wi));
-        let sin_theta = (PI * uv.y).sin();
-        if sin_theta.is_nan() || sin_theta <= 0.0 {
-            return 0.0;
-        }
-        let pdf = self.distribution.pdf(uv) / (2.0 * PI * PI * sin_theta);
-        if pdf.is_finite() {
-            pdf
-        } else {
-            0.0
-        }
+        let uv = self.uv_of(wi);
+        self.solid_angle_pdf(uv, self.distribution.pdf(uv))
     }
 }
 
@@ -321,7 +626,52 @@ impl Environment {
             return Err(EnvironmentError::Rotation(rotation));
         }
         let (width, height, pixels) = read_float_image(path)?;
-        Ok(Environment::Image(Arc::new(EnvironmentMap::build(path, width, height, pixels, scale, rotation)?)))
+        let q = Mat3::from_rotation_y(rotation.to_radians());
+        let map =
+            EnvironmentMap::build(path, width, height, pixels, EnvironmentMapping::Equirectangular, q, scale, None)?;
+        Ok(Environment::Image(Arc::new(map)))
+    }
+
+    /// An environment image read from a Radiance `.hdr` or OpenEXR `.exr`
+    /// file (chosen by extension), with the mapping, placement and scale of
+    /// `options` (pbrt-v4's `infinite` light with a `filename`: use
+    /// [`MapOptions::default`], the equal-area mapping, and set the
+    /// transform, scale and illuminance). A non-square image given as an
+    /// equal-area map is refused ([`EnvironmentError::NotSquare`]).
+    pub fn from_file_with(path: impl AsRef<Path>, options: &MapOptions) -> Result<Self, EnvironmentError> {
+        let path = path.as_ref();
+        if !(options.scale >= 0.0 && options.scale.is_finite()) {
+            return Err(EnvironmentError::Scale(options.scale));
+        }
+        orthogonal_part(&options.light_to_world)?;
+        let (width, height, pixels) = read_float_image(path)?;
+        Ok(Environment::Image(Arc::new(EnvironmentMap::from_options(path, width, height, pixels, options)?)))
+    }
+
+    /// pbrt-v4's `infinite` light without an image: radiance `l · scale`
+    /// from every direction or, with `illuminance` `E` (when > 0), scaled so
+    /// that a surface facing up receives `E · scale`: since a uniform
+    /// radiance `L` gives `E = π lum(L)` on any surface, the radiance becomes
+    /// `l · scale · E / (π lum(l))`. (A rotation does not change a uniform
+    /// environment.)
+    pub fn uniform(l: Color, scale: f32, illuminance: Option<f32>) -> Result<Self, EnvironmentError> {
+        if !(scale >= 0.0 && scale.is_finite()) {
+            return Err(EnvironmentError::Scale(scale));
+        }
+        if !(l.is_finite() && l.min_element() >= 0.0) {
+            return Err(EnvironmentError::Radiance);
+        }
+        let mut c = l * scale;
+        if let Some(e) = illuminance {
+            if !e.is_finite() {
+                return Err(EnvironmentError::Illuminance(e));
+            }
+            let lum = luminance(l);
+            if e > 0.0 && lum > 0.0 {
+                c *= e / (PI * lum);
+            }
+        }
+        Ok(Environment::Constant(c))
     }
 
     /// Radiance arriving from direction `-dir`, i.e. seen by a ray

@@ -6,15 +6,29 @@
 //! (the layer above). The path integrator also has area lights
 //! (emissive surfaces) and environment lights; [`Emitter`] is any of them
 //! and a [`LightSet`] picks one to sample.
+//!
+//! pbrt-v4's lights map onto these: `point`, `spot` and `distant` through
+//! [`Light::pbrt_point`], [`Light::pbrt_spot`] and [`Light::pbrt_distant`]
+//! (their parameters, with pbrt's defaults, in [`PointLightParams`] and
+//! its siblings); `infinite` through [`Environment::uniform`] and
+//! [`Environment::from_file_with`] (equal-area maps, [`equal_area`]);
+//! `diffuse` area lights are [`AreaLight`]s, with `reverse` for pbrt's
+//! `ReverseOrientation`.
 
 mod area;
 mod emitter;
 mod environment;
+pub mod equal_area;
+mod pbrt;
 mod set;
 
 pub use area::AreaLight;
 pub use emitter::{Emitter, LiSample, LightSampleContext};
-pub use environment::{equirect_direction, equirect_uv, Environment, EnvironmentError, EnvironmentMap};
+pub use environment::{
+    equirect_direction, equirect_uv, Environment, EnvironmentError, EnvironmentMap, EnvironmentMapping, MapOptions,
+};
+pub use equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere};
+pub use pbrt::{DistantLightParams, PointLightParams, SpotLightParams};
 pub use set::LightSet;
 // Moved to `shapes` with the rest of the triangle's light sampling.
 pub use crate::shapes::triangle_solid_angle;
@@ -44,6 +58,9 @@ pub enum LightError {
     /// A coordinate is NaN or infinite.
     #[error("light parameters must be finite numbers")]
     NonFinite,
+    /// A colour is negative or not finite.
+    #[error("a light's colour must be finite and ≥ 0 in every channel")]
+    Color,
 }
 
 /// How a light's intensity decreases with distance `d`.

@@ -63,6 +63,7 @@ mod tests {
                 shape: Shape::Triangle(Triangle::new([Vec3::ZERO, Vec3::X, Vec3::Y], None).unwrap()),
                 radiance: Color::splat(4.0),
                 two_sided: false,
+                reverse: false,
             }),
             Emitter::Environment(Environment::Constant(Color::splat(0.1))),
             Emitter::Delta(Light::directional(Vec3::Y, Color::ONE, 0.0).unwrap()),

@@ -376,6 +376,7 @@ impl SceneBuilder {
             shape,
             radiance: e.radiance,
             two_sided: e.two_sided,
+            reverse: false,
         }));
         self.primitives.push(primitive.with_area_light(first));
         Ok(())
