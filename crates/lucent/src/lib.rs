@@ -72,6 +72,8 @@ pub mod geometry;
 
 pub mod color;
 
+pub mod spectrum;
+
 pub mod texels;
 
 // Sampling.
