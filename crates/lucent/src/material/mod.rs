@@ -354,7 +354,7 @@ impl MaterialContext {
     /// texture coordinates.
     #[inline]
     pub fn texture_context(&self) -> TextureContext {
-        TextureContext { p: self.p, n: self.n, uv: self.uv }
+        TextureContext::new(self.p, self.n, self.uv)
     }
 }
 
@@ -526,7 +526,7 @@ impl Material {
     /// (normal and ∂p/∂u). `None` for an interface.
     pub fn bsdf_at(&self, ctx: &MaterialContext, materials: &[Material]) -> Option<Bsdf> {
         let r = self.resolve(ctx, materials)?;
-        let tc = TextureContext { p: ctx.p, n: ctx.n, uv: ctx.uv };
+        let tc = TextureContext::new(ctx.p, ctx.n, ctx.uv);
         Some(Bsdf::new(r.shading.ns, r.shading.dpdu, r.material.bxdf_at(&tc)))
     }
 

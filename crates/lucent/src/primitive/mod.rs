@@ -218,7 +218,7 @@ impl Primitive {
             None => (h.p, h.n),
             Some(t) => (t.point(h.p), t.normal(h.n).normalize_or_zero()),
         };
-        let a = alpha.evaluate(&TextureContext { p, n, uv: h.uv });
+        let a = alpha.evaluate(&TextureContext::new(p, n, h.uv));
         if a >= 1.0 {
             true
         } else if a <= 0.0 || a.is_nan() {
