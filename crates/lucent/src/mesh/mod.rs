@@ -11,6 +11,8 @@
 //! | [`load_mesh`] | a `.ply` or `.obj` file, chosen by extension |
 //! | [`load_ply`], [`parse_ply`] | PLY, ascii or binary (either byte order): [`ply`] |
 //! | [`load_obj`], [`parse_obj`] | Wavefront OBJ with its MTL materials: [`obj`] |
+//! | [`bilinear_patches`] | pbrt-v4's `bilinearmesh`, tessellated: [`bilinear`] |
+//! | [`loop_subdivide`] | pbrt's `loopsubdiv`, Loop subdivision to the limit surface: [`loop_subdiv`] |
 //!
 //! The PLY loader follows section 1 of the raybench
 //! protocol (`../shared/tools/raybench/SPEC.md`) bit for bit, so that lucent
@@ -27,10 +29,14 @@
 use crate::geometry::{Bounds3, Vec2, Vec3};
 use std::path::{Path, PathBuf};
 
+pub mod bilinear;
+pub mod loop_subdiv;
 mod normals;
 pub mod obj;
 pub mod ply;
 
+pub use bilinear::bilinear_patches;
+pub use loop_subdiv::loop_subdivide;
 pub use obj::{load_obj, parse_obj};
 pub use ply::{load_ply, parse_ply};
 

@@ -251,3 +251,96 @@ fn ray_hash(ray: &Ray) -> f32 {
     }
     (h >> 40) as f32 / (1u64 << 24) as f32
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Vec2;
+    use crate::mesh::TriangleMesh;
+    use crate::shapes::Mesh;
+
+    /// The unit square in z = 0 as two triangles, uv = (x, y).
+    fn square(z: f32) -> Arc<Mesh> {
+        let positions = vec![Vec3::new(0.0, 0.0, z), Vec3::new(1.0, 0.0, z), Vec3::new(1.0, 1.0, z), Vec3::new(0.0, 1.0, z)];
+        let uvs = Some(positions.iter().map(|p| p.truncate()).collect());
+        Arc::new(Mesh::new(TriangleMesh { positions, indices: vec![[0, 1, 2], [0, 2, 3]], uvs, ..Default::default() }).unwrap())
+    }
+
+    fn down(x: f32, y: f32) -> Ray {
+        Ray::new(Vec3::new(x, y, 5.0), -Vec3::Z)
+    }
+
+    #[test]
+    fn alpha_zero_is_invisible_to_every_ray() {
+        let m = MaterialId::new(0);
+        let opaque = Primitive::new(Shape::Mesh(square(0.0)), Transform::IDENTITY, m);
+        let cut = opaque.clone().with_alpha(FloatTexture::Constant(0.0));
+        assert!(opaque.intersect(&down(0.3, 0.6), f32::INFINITY).is_some());
+        assert!(cut.intersect(&down(0.3, 0.6), f32::INFINITY).is_none());
+        assert!(!cut.intersect_p(&down(0.3, 0.6), f32::INFINITY));
+        // Placed with a transform, and for a sphere: the same.
+        let moved = cut.with_transform(Transform::translate(Vec3::new(0.0, 0.0, 1.0)));
+        assert!(moved.intersect(&down(0.3, 0.6), f32::INFINITY).is_none());
+        let ball = Primitive::new(crate::shapes::Sphere::new(Vec3::ZERO, 1.0).unwrap(), Transform::IDENTITY, m)
+            .with_alpha(FloatTexture::Constant(0.0));
+        assert!(ball.intersect(&down(0.0, 0.0), f32::INFINITY).is_none());
+        assert!(!ball.intersect_p(&down(0.0, 0.0), f32::INFINITY));
+        // Alpha 1 is no cut-out at all.
+        assert!(opaque.clone().with_alpha(FloatTexture::Constant(1.0)).alpha().is_none());
+    }
+
+    #[test]
+    fn stochastic_alpha_keeps_its_fraction_and_is_deterministic() {
+        let m = MaterialId::new(0);
+        let p = Primitive::new(Shape::Mesh(square(0.0)), Transform::IDENTITY, m).with_alpha(FloatTexture::Constant(0.25));
+        let n = 20_000;
+        let mut hits = 0;
+        for i in 0..n {
+            let r = down((i % 100) as f32 / 100.0 + 0.003, (i / 100) as f32 / 200.0 + 0.001);
+            let h = p.intersect(&r, f32::INFINITY).is_some();
+            assert_eq!(h, p.intersect_p(&r, f32::INFINITY), "camera and shadow rays agree");
+            hits += h as u32;
+        }
+        let frac = hits as f32 / n as f32;
+        assert!((frac - 0.25).abs() < 0.02, "{frac}");
+    }
+
+    #[test]
+    fn a_cut_out_nearest_triangle_shows_the_one_behind() {
+        // Two squares in one mesh, at z = 1 and z = 0; a filter that drops
+        // faces 0 and 1 (the upper square) reveals the lower one.
+        let mut mesh = TriangleMesh {
+            positions: vec![Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 1.0), Vec3::new(1.0, 1.0, 1.0), Vec3::new(0.0, 1.0, 1.0)],
+            indices: vec![[0, 1, 2], [0, 2, 3]],
+            ..Default::default()
+        };
+        mesh.positions.extend(mesh.positions.clone().iter().map(|p| Vec3::new(p.x, p.y, 0.0)));
+        mesh.indices.extend([[4, 5, 6], [4, 6, 7]]);
+        let mesh = Mesh::new(mesh).unwrap();
+        let h = mesh.intersect_filtered(&down(0.7, 0.2), f32::INFINITY, &mut |h| h.face >= 2).unwrap();
+        assert_eq!((h.t, h.face), (5.0, 2));
+        assert!(mesh.intersect_p_filtered(&down(0.7, 0.2), f32::INFINITY, &mut |h| h.face >= 2));
+        assert!(!mesh.intersect_p_filtered(&down(0.7, 0.2), f32::INFINITY, &mut |_| false));
+        // Without the filter: the upper one.
+        assert_eq!(mesh.intersect(&down(0.7, 0.2), f32::INFINITY).unwrap().t, 4.0);
+    }
+
+    #[test]
+    fn a_checker_alpha_cuts_exact_squares() {
+        // alpha = 1 on the even squares of a 4 × 4 checker in uv, 0 on the
+        // odd ones (the test the alpha texture makes, here as a closure on
+        // the hit's uv: the float checker texture lives in `texture`).
+        let mesh = square(0.0);
+        let checker = |uv: Vec2| ((uv.x * 4.0).floor() as i32 + (uv.y * 4.0).floor() as i32) % 2 == 0;
+        for j in 0..64 {
+            for i in 0..64 {
+                let (x, y) = ((i as f32 + 0.5) / 64.0, (j as f32 + 0.5) / 64.0);
+                let hit = mesh.intersect_filtered(&down(x, y), f32::INFINITY, &mut |h| checker(h.uv));
+                assert_eq!(hit.is_some(), checker(Vec2::new(x, y)), "({x}, {y})");
+                if let Some(h) = hit {
+                    assert!((h.uv - Vec2::new(x, y)).length() < 1e-6);
+                }
+            }
+        }
+    }
+}

@@ -264,3 +264,67 @@ impl PartialEq for Mesh {
         std::ptr::eq(self, other)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One triangle with per-vertex uvs: uv = (2x, 3y) + (0.5, 0).
+    #[test]
+    fn uvs_are_interpolated_and_tangents_follow_them() {
+        let positions = vec![Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        let uv = |p: Vec3| Vec2::new(2.0 * p.x + 0.5, 3.0 * p.y);
+        let uvs = Some(positions.iter().map(|&p| uv(p)).collect());
+        let m = Mesh::new(TriangleMesh { positions, indices: vec![[0, 1, 2]], uvs, ..Default::default() }).unwrap();
+        let h = m.intersect(&Ray::new(Vec3::new(0.5, 0.25, 1.0), -Vec3::Z), f32::INFINITY).unwrap();
+        assert_eq!(h.uv, uv(Vec3::new(0.5, 0.25, 0.0)));
+        // p = ((u − 0.5)/2, v/3, 0): ∂p/∂u = (1/2, 0, 0), ∂p/∂v = (0, 1/3, 0).
+        assert!((h.dpdu - Vec3::new(0.5, 0.0, 0.0)).length() < 1e-6, "{}", h.dpdu);
+        assert!((h.dpdv - Vec3::new(0.0, 1.0 / 3.0, 0.0)).length() < 1e-6, "{}", h.dpdv);
+        assert!(m.has_uvs() && m.face_index(0).is_none());
+    }
+
+    #[test]
+    fn default_uvs_are_barycentric_or_pbrts() {
+        let p = [Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(1.0, 3.0, 0.0)];
+        let tm = TriangleMesh { positions: p.to_vec(), indices: vec![[0, 1, 2]], ..Default::default() };
+        let ray = Ray::new(Vec3::new(1.0, 1.0, 1.0), -Vec3::Z);
+        let h = Mesh::new(tm.clone()).unwrap().intersect(&ray, f32::INFINITY).unwrap();
+        // b = (1/3, 1/3, 1/3) at (1, 1).
+        let b = 1.0 / 3.0;
+        assert!((h.uv - Vec2::new(b, b)).length() < 1e-6);
+        assert_eq!((h.dpdu, h.dpdv), (p[1] - p[0], p[2] - p[0]));
+        let m = Mesh::new(tm).unwrap().with_default_uv(DefaultUv::Pbrt);
+        let h = m.intersect(&ray, f32::INFINITY).unwrap();
+        assert!((h.uv - Vec2::new(2.0 * b, b)).length() < 1e-6);
+        // Corner uvs (0,0), (1,0), (1,1): ∂p/∂u = p₁ − p₀, ∂p/∂v = p₂ − p₁.
+        assert!((h.dpdu - (p[1] - p[0])).length() < 1e-6 && (h.dpdv - (p[2] - p[1])).length() < 1e-6);
+    }
+
+    #[test]
+    fn flipped_winding_turns_the_normal() {
+        let mut tm = TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            indices: vec![[0, 1, 2]],
+            face_indices: Some(vec![9]),
+            ..Default::default()
+        };
+        let ray = Ray::new(Vec3::new(0.2, 0.2, 1.0), -Vec3::Z);
+        assert_eq!(Mesh::new(tm.clone()).unwrap().intersect(&ray, f32::INFINITY).unwrap().n, Vec3::Z);
+        tm.flip_winding();
+        let m = Mesh::new(tm).unwrap();
+        assert_eq!(m.intersect(&ray, f32::INFINITY).unwrap().n, -Vec3::Z);
+        assert_eq!(m.face_index(0), Some(9));
+    }
+
+    #[test]
+    fn inconsistent_uvs_are_rejected() {
+        let tm = TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            indices: vec![[0, 1, 2]],
+            uvs: Some(vec![Vec2::ZERO]),
+            ..Default::default()
+        };
+        assert!(Mesh::new(tm).is_err());
+    }
+}
