@@ -234,7 +234,10 @@ fn subdivide_once(p: &[Vec3], tris: &[[u32; 3]]) -> Result<Level, String> {
             let key = (x.min(y), x.max(y));
             let entry = edges.entry(key).or_insert((u32::MAX, [0, 0], 0));
             if entry.2 == 2 {
-                return Err(format!("edge ({}, {}) is shared by more than two faces: the mesh is not a manifold", x, y));
+                return Err(format!(
+                    "edge ({}, {}) is shared by more than two faces: the mesh is not a manifold",
+                    x, y
+                ));
             }
             entry.1[entry.2] = opp;
             entry.2 += 1;
@@ -245,11 +248,8 @@ fn subdivide_once(p: &[Vec3], tris: &[[u32; 3]]) -> Result<Level, String> {
     for key in keys {
         let e = edges.get_mut(&key).expect("present");
         let (a, b) = (p[key.0 as usize], p[key.1 as usize]);
-        let q = if e.2 == 2 {
-            0.375 * (a + b) + 0.125 * (p[e.1[0] as usize] + p[e.1[1] as usize])
-        } else {
-            0.5 * (a + b)
-        };
+        let q =
+            if e.2 == 2 { 0.375 * (a + b) + 0.125 * (p[e.1[0] as usize] + p[e.1[1] as usize]) } else { 0.5 * (a + b) };
         e.0 = out.len() as u32;
         out.push(q);
     }
@@ -288,7 +288,7 @@ mod tests {
             assert!((q[i] - p[i] / 4.0).length() < 1e-6, "{}", q[i]);
         }
         // Odd vertex of edge (0, 1): 3/8 (p0 + p1) + 1/8 (p2 + p3) = 1/4 (p0 + p1).
-        let e01 = 4 + 0; // edges sorted: (0,1) first
+        let e01 = 4; // the first odd vertex: edges are numbered sorted, (0, 1) first
         assert!((q[e01] - 0.25 * (p[0] + p[1])).length() < 1e-6, "{}", q[e01]);
         // The subdivided mesh still winds outwards.
         for tri in &tris {
@@ -358,7 +358,11 @@ mod tests {
         assert_eq!(count, 4 * 16);
         // Far from the corners a straight boundary stays straight: the
         // middle of the bottom side is exactly on y = 0.
-        let mid = flat.positions.iter().zip(&rings).filter(|(x, r)| matches!(r, Ring::Boundary(_)) && (x.x - 2.0).abs() < 0.6 && x.y < 0.5);
+        let mid = flat
+            .positions
+            .iter()
+            .zip(&rings)
+            .filter(|(x, r)| matches!(r, Ring::Boundary(_)) && (x.x - 2.0).abs() < 0.6 && x.y < 0.5);
         let mid: Vec<_> = mid.collect();
         assert!(!mid.is_empty());
         for (x, _) in mid {

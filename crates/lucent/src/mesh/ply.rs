@@ -689,9 +689,8 @@ struct Faces {
 
 fn read_vertices<S: Source>(e: &Element, src: &mut S, path: &Path) -> Result<Vertices, MeshError> {
     // Slots 6..14: the texture coordinate pairs pbrt-v4 accepts, by preference.
-    const NAMES: [&str; 14] = [
-        "x", "y", "z", "nx", "ny", "nz", "u", "v", "s", "t", "texture_u", "texture_v", "texture_s", "texture_t",
-    ];
+    const NAMES: [&str; 14] =
+        ["x", "y", "z", "nx", "ny", "nz", "u", "v", "s", "t", "texture_u", "texture_v", "texture_s", "texture_t"];
     // Per property: the slot (x, y, z, nx, ny, nz) it is stored in, if any.
     let slots: Vec<Option<(usize, Scalar)>> = e
         .props
@@ -1009,7 +1008,8 @@ mod tests {
         assert_eq!(m.face_indices, Some(vec![7, 7]));
         // Each of pbrt's names; u/v wins over the others.
         for (a, b) in [("u", "v"), ("texture_u", "texture_v"), ("texture_s", "texture_t")] {
-            let t = TRI.replace("property float z\n", &format!("property float z\nproperty float {a}\nproperty float {b}\n"));
+            let t = TRI
+                .replace("property float z\n", &format!("property float z\nproperty float {a}\nproperty float {b}\n"));
             let t = t.replace("0 0 0 1 0 0 0 1 0", "0 0 0 0.5 0.25 1 0 0 1 0 0 1 0 0 1");
             assert_eq!(parse(&t).unwrap().uvs.unwrap()[0], Vec2::new(0.5, 0.25), "{a}");
         }

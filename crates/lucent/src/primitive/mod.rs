@@ -261,9 +261,13 @@ mod tests {
 
     /// The unit square in z = 0 as two triangles, uv = (x, y).
     fn square(z: f32) -> Arc<Mesh> {
-        let positions = vec![Vec3::new(0.0, 0.0, z), Vec3::new(1.0, 0.0, z), Vec3::new(1.0, 1.0, z), Vec3::new(0.0, 1.0, z)];
+        let positions =
+            vec![Vec3::new(0.0, 0.0, z), Vec3::new(1.0, 0.0, z), Vec3::new(1.0, 1.0, z), Vec3::new(0.0, 1.0, z)];
         let uvs = Some(positions.iter().map(|p| p.truncate()).collect());
-        Arc::new(Mesh::new(TriangleMesh { positions, indices: vec![[0, 1, 2], [0, 2, 3]], uvs, ..Default::default() }).unwrap())
+        Arc::new(
+            Mesh::new(TriangleMesh { positions, indices: vec![[0, 1, 2], [0, 2, 3]], uvs, ..Default::default() })
+                .unwrap(),
+        )
     }
 
     fn down(x: f32, y: f32) -> Ray {
@@ -292,7 +296,8 @@ mod tests {
     #[test]
     fn stochastic_alpha_keeps_its_fraction_and_is_deterministic() {
         let m = MaterialId::new(0);
-        let p = Primitive::new(Shape::Mesh(square(0.0)), Transform::IDENTITY, m).with_alpha(FloatTexture::Constant(0.25));
+        let p =
+            Primitive::new(Shape::Mesh(square(0.0)), Transform::IDENTITY, m).with_alpha(FloatTexture::Constant(0.25));
         let n = 20_000;
         let mut hits = 0;
         for i in 0..n {
@@ -310,7 +315,12 @@ mod tests {
         // Two squares in one mesh, at z = 1 and z = 0; a filter that drops
         // faces 0 and 1 (the upper square) reveals the lower one.
         let mut mesh = TriangleMesh {
-            positions: vec![Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 1.0), Vec3::new(1.0, 1.0, 1.0), Vec3::new(0.0, 1.0, 1.0)],
+            positions: vec![
+                Vec3::new(0.0, 0.0, 1.0),
+                Vec3::new(1.0, 0.0, 1.0),
+                Vec3::new(1.0, 1.0, 1.0),
+                Vec3::new(0.0, 1.0, 1.0),
+            ],
             indices: vec![[0, 1, 2], [0, 2, 3]],
             ..Default::default()
         };

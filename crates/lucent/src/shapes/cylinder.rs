@@ -225,7 +225,7 @@ impl Cylinder {
     /// area`.
     pub fn sample_area(&self, u: Vec2) -> Option<ShapeSample> {
         let area = self.area();
-        if !(area > 0.0) {
+        if area.is_nan() || area <= 0.0 {
             return None;
         }
         let z = self.z_min + u.x * (self.z_max - self.z_min);

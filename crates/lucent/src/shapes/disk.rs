@@ -173,7 +173,7 @@ impl Disk {
     /// whatever the inner radius and `φ_max`.)
     pub fn sample_area(&self, u: Vec2) -> Option<ShapeSample> {
         let area = self.area();
-        if !(area > 0.0) {
+        if area.is_nan() || area <= 0.0 {
             return None;
         }
         let (ri2, r2) = (self.inner_radius * self.inner_radius, self.radius * self.radius);

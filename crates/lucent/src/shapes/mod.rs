@@ -32,7 +32,9 @@ pub use mesh::{DefaultUv, Mesh};
 pub use mesh_bvh::{MeshBvh, MeshHit};
 pub use plane::Plane;
 pub use sphere::Sphere;
-pub use triangle::{triangle_dpduv, triangle_solid_angle, Triangle, MAX_SPHERICAL_SAMPLE_AREA, MIN_SPHERICAL_SAMPLE_AREA};
+pub use triangle::{
+    triangle_dpduv, triangle_solid_angle, Triangle, MAX_SPHERICAL_SAMPLE_AREA, MIN_SPHERICAL_SAMPLE_AREA,
+};
 
 use crate::geometry::{Bounds3, Ray, Transform, Vec2, Vec3};
 use std::sync::Arc;

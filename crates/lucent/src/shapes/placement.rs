@@ -78,9 +78,11 @@ impl Placement {
         }
         let w = self.point_to_world(p);
         let carried = err.x * self.axes[0].abs() + err.y * self.axes[1].abs() + err.z * self.axes[2].abs();
-        let rounding = gamma(4) * (self.origin.abs() + p.x.abs() * self.axes[0].abs()
-            + p.y.abs() * self.axes[1].abs()
-            + p.z.abs() * self.axes[2].abs());
+        let rounding = gamma(4)
+            * (self.origin.abs()
+                + p.x.abs() * self.axes[0].abs()
+                + p.y.abs() * self.axes[1].abs()
+                + p.z.abs() * self.axes[2].abs());
         (w, carried * (1.0 + gamma(3)) + rounding)
     }
 

@@ -175,7 +175,7 @@ impl Sphere {
     /// in `[z_min, z_max]` and `φ` in `[0, φ_max]`); `pdf` is `1 / area`.
     pub fn sample_area(&self, u: Vec2) -> Option<ShapeSample> {
         let area = self.area();
-        if !(area > 0.0) {
+        if area.is_nan() || area <= 0.0 {
             return None;
         }
         let n = match &self.partial {
