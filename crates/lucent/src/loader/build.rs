@@ -185,6 +185,7 @@ impl SceneFile {
                 None => Filter::default(),
                 Some(f) => self.filter(&f)?,
             },
+            ..RenderSettings::for_integrator(integrator)
         })
     }
 
