@@ -2,8 +2,9 @@
 //! default `PixelSensor` ("cie1931"; PBRT 4th ed., §5.4.2): each sample's
 //! radiance is multiplied by a per-channel scale (exposure and white
 //! balance), then, if its largest component exceeds `maxcomponentvalue`,
-//! scaled down to it. [`RenderSettings`](crate::render::RenderSettings)
-//! holds the scale and the limit; the render loop applies
+//! scaled down to it. `RenderSettings::film_scale` and
+//! `RenderSettings::max_component` (in the render layer) hold the scale
+//! and the limit; the render loop applies
 //! [`film_response`] to every sample before it is filtered into pixels.
 
 use crate::color::Color;
@@ -125,7 +126,7 @@ pub fn white_balance_scale(temperature: f32) -> Result<Color, SensorError> {
 }
 
 /// pbrt-v4's `Film "rgb"` exposure and white balance as the per-channel
-/// [`RenderSettings::film_scale`](crate::render::RenderSettings::film_scale):
+/// `RenderSettings::film_scale` of the render layer:
 /// [`imaging_ratio`]`(exposure_time, iso)` times
 /// [`white_balance_scale`]`(white_balance)`. pbrt-v4's defaults (exposure
 /// 1, ISO 100, white balance 0) give (1, 1, 1).
