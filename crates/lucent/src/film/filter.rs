@@ -9,22 +9,31 @@
 //! Offsets are drawn with density `p = |f| / ∫|f|`, and
 //! [`FilterSample::weight`] is `f(offset) / (p(offset) · ∫|f|)`, that is
 //! `sign f(offset)`: `1` for the box, tent and Gaussian filters, which are
-//! never negative, and `±1` for Mitchell–Netravali, whose negative lobes are
-//! sampled by their magnitude. Its expectation is `∫f / ∫|f|` (1 for the
+//! never negative, and `±1` for Mitchell–Netravali and Lanczos, whose
+//! negative lobes are sampled by their magnitude. Its expectation is `∫f / ∫|f|` (1 for the
 //! non-negative filters). The film forms each pixel as `Σ w·L / Σ w`, in
 //! which any constant factor of the weights cancels, so this is the
 //! filter-weighted average of the radiance over the filter's support.
 //!
-//! All four filters are separable, `f(x, y) = f₁(x)·f₁(y)`, so a 2D offset is
+//! All five filters are separable, `f(x, y) = f₁(x)·f₁(y)`, so a 2D offset is
 //! two independent 1D draws and the weight is the product of their signs.
-//! The box and tent are inverted analytically. The Gaussian and
-//! Mitchell–Netravali filters have no closed-form inverse CDF; they are
+//! The box and tent are inverted analytically. The Gaussian,
+//! Mitchell–Netravali and Lanczos filters have no closed-form inverse CDF; they are
 //! tabulated as `|f₁|` at [`TABLE_SEGMENTS`]` + 1` evenly spaced points over
 //! `[−r, r]` and sampled *exactly* from the piecewise-linear interpolant of
 //! those points. The interpolant differs from `|f₁|` by at most `h²·max|f₁''|/8`
 //! (`h = 2r / TABLE_SEGMENTS`), a few parts in a million of the peak for the
 //! usual parameters; within that tolerance the sampling is proportional to
 //! `|f|`, which is why the weight is a constant sign.
+//!
+//! # pbrt-v4's filters
+//!
+//! The definitions are pbrt-v4's (PBRT 4th ed., §8.8; `filters.h`), up to
+//! constant factors, which cancel: box `1` for `|x| ≤ r`; triangle
+//! (`Tent`) `max(0, r − |x|)`; Gaussian `max(0, g(x) − g(r))`; Mitchell
+//! `k(2x/r)`; Lanczos `sinc(x)·sinc(x/τ)` for `|x| ≤ r`. Their pbrt-v4
+//! defaults are [`Filter::pbrt_default`]; pbrt-v4 allows a different
+//! `xradius` and `yradius`, lucent's filters are square.
 
 use crate::sampling::tent;
 use glam::Vec2;
@@ -63,6 +72,18 @@ pub enum Filter {
         /// C.
         c: f32,
     },
+    /// The Lanczos windowed sinc `sinc(x)·sinc(x/τ)`, `sinc(x) =
+    /// sin(πx)/(πx)`, cut off at `radius` (pbrt-v4's `LanczosSincFilter`,
+    /// PBRT 4th ed. §8.8.5; Duchon, "Lanczos Filtering in One and Two
+    /// Dimensions", 1979). Unlike the classic Lanczos-a kernel the window's
+    /// width `τ` and the radius are separate: pbrt-v4's default is radius 4,
+    /// τ 3, so the window's first negative lobe (3 < |x| < 4) is kept.
+    Lanczos {
+        /// Radius.
+        radius: f32,
+        /// Width of the window sinc(x/τ) (its first zero is at τ).
+        tau: f32,
+    },
 }
 
 impl Default for Filter {
@@ -80,6 +101,9 @@ pub enum FilterError {
     /// The Gaussian's standard deviation is not a positive finite number.
     #[error("Gaussian filter sigma {0} is invalid: it must be a positive finite number of pixels")]
     Sigma(f32),
+    /// The Lanczos window width is not a positive finite number.
+    #[error("Lanczos filter tau {0} is invalid: it must be a positive finite number of pixels")]
+    Tau(f32),
     /// A Mitchell–Netravali parameter is not finite.
     #[error("Mitchell filter parameters b = {b}, c = {c} are invalid: both must be finite")]
     Mitchell {
@@ -99,8 +123,33 @@ impl Filter {
     pub fn radius(&self) -> f32 {
         match *self {
             Filter::Box { radius } | Filter::Tent { radius } => radius,
-            Filter::Gaussian { radius, .. } | Filter::Mitchell { radius, .. } => radius,
+            Filter::Gaussian { radius, .. } | Filter::Mitchell { radius, .. } | Filter::Lanczos { radius, .. } => {
+                radius
+            }
         }
+    }
+
+    /// pbrt-v4's `PixelFilter` `name` with its default parameters
+    /// (`filters.cpp`): `box` radius 0.5; `triangle` radius 2; `gaussian`
+    /// radius 1.5, sigma 0.5 (pbrt-v4's default filter); `mitchell` radius
+    /// 2, B = C = 1/3; `sinc` (Lanczos) radius 4, tau 3. `None` for other
+    /// names.
+    ///
+    /// ```
+    /// use lucent::film::Filter;
+    ///
+    /// assert_eq!(Filter::pbrt_default("sinc"), Some(Filter::Lanczos { radius: 4.0, tau: 3.0 }));
+    /// assert_eq!(Filter::pbrt_default("blackman"), None);
+    /// ```
+    pub fn pbrt_default(name: &str) -> Option<Filter> {
+        Some(match name {
+            "box" => Filter::Box { radius: 0.5 },
+            "triangle" => Filter::Tent { radius: 2.0 },
+            "gaussian" => Filter::Gaussian { radius: 1.5, sigma: 0.5 },
+            "mitchell" => Filter::Mitchell { radius: 2.0, b: 1.0 / 3.0, c: 1.0 / 3.0 },
+            "sinc" | "lanczos" => Filter::Lanczos { radius: 4.0, tau: 3.0 },
+            _ => return None,
+        })
     }
 
     /// Check the parameters: radius and sigma positive and finite,
@@ -120,6 +169,7 @@ impl Filter {
         match *self {
             Filter::Gaussian { sigma, .. } if !(sigma.is_finite() && sigma > 0.0) => Err(FilterError::Sigma(sigma)),
             Filter::Mitchell { b, c, .. } if !(b.is_finite() && c.is_finite()) => Err(FilterError::Mitchell { b, c }),
+            Filter::Lanczos { tau, .. } if !(tau.is_finite() && tau > 0.0) => Err(FilterError::Tau(tau)),
             _ => Ok(()),
         }
     }
@@ -150,7 +200,25 @@ impl Filter {
                 ((-ax * ax / s2).exp() - (-r * r / s2).exp()).max(0.0)
             }
             Filter::Mitchell { b, c, .. } => mitchell_1d(2.0 * ax / r, b as f64, c as f64),
+            Filter::Lanczos { tau, .. } => sinc(x) * sinc(x / tau as f64),
         }
+    }
+
+    /// Whether the filter has negative lobes (Mitchell, Lanczos), so that
+    /// sample weights may be −1.
+    fn has_negative_lobes(&self) -> bool {
+        matches!(self, Filter::Mitchell { .. } | Filter::Lanczos { .. })
+    }
+}
+
+/// `sin(πx)/(πx)`, 1 at 0 (where the quotient is replaced by its Taylor
+/// series `1 − (πx)²/6`, exact to double precision for `|πx| < 1e-4`).
+fn sinc(x: f64) -> f64 {
+    let px = std::f64::consts::PI * x;
+    if px.abs() < 1e-4 {
+        1.0 - px * px / 6.0
+    } else {
+        px.sin() / px
     }
 }
 
@@ -177,12 +245,13 @@ pub struct FilterSample {
     /// Offset from the pixel centre, in pixels.
     pub offset: Vec2,
     /// `f(offset) / (pdf(offset) · ∫|f|)`: the sign of the filter there, so
-    /// `1` for filters that are never negative and `±1` for Mitchell (see
+    /// `1` for filters that are never negative and `±1` for Mitchell and
+    /// Lanczos (see
     /// the module documentation).
     pub weight: f32,
 }
 
-/// Segments of the tabulated 1D distributions (Gaussian, Mitchell).
+/// Segments of the tabulated 1D distributions (Gaussian, Mitchell, Lanczos).
 pub const TABLE_SEGMENTS: usize = 1024;
 
 /// A 1D density proportional to the piecewise-linear interpolant of
@@ -280,7 +349,7 @@ impl FilterSampler {
         filter.validate()?;
         let table = match filter {
             Filter::Box { .. } | Filter::Tent { .. } => None,
-            Filter::Gaussian { .. } | Filter::Mitchell { .. } => {
+            Filter::Gaussian { .. } | Filter::Mitchell { .. } | Filter::Lanczos { .. } => {
                 Some(Table1D::new(&filter).ok_or(FilterError::Degenerate(filter))?)
             }
         };
@@ -307,13 +376,13 @@ impl FilterSampler {
             Filter::Tent { radius } => {
                 FilterSample { offset: Vec2::new(tent(u.x, radius), tent(u.y, radius)), weight: 1.0 }
             }
-            Filter::Gaussian { .. } | Filter::Mitchell { .. } => {
+            Filter::Gaussian { .. } | Filter::Mitchell { .. } | Filter::Lanczos { .. } => {
                 let table = self.table.as_ref().expect("tabulated filters have a table");
                 let offset = Vec2::new(table.sample(u.x), table.sample(u.y));
                 let weight = match self.filter {
-                    // The Mitchell filter's sign: negative in one lobe of
-                    // exactly one of the two axes.
-                    Filter::Mitchell { .. } => {
+                    // The sign of a filter with negative lobes: negative in
+                    // a negative lobe of exactly one of the two axes.
+                    f if f.has_negative_lobes() => {
                         let sx = self.filter.evaluate_1d(offset.x) < 0.0;
                         let sy = self.filter.evaluate_1d(offset.y) < 0.0;
                         if sx != sy {
@@ -334,7 +403,7 @@ impl FilterSampler {
 mod tests {
     use super::*;
 
-    const ALL: [Filter; 7] = [
+    const ALL: [Filter; 9] = [
         Filter::Box { radius: 0.5 },
         Filter::Box { radius: 1.5 },
         Filter::Tent { radius: 1.0 },
@@ -342,6 +411,8 @@ mod tests {
         Filter::Gaussian { radius: 1.5, sigma: 0.5 },
         Filter::Mitchell { radius: 2.0, b: 1.0 / 3.0, c: 1.0 / 3.0 },
         Filter::Mitchell { radius: 1.0, b: 0.0, c: 0.75 },
+        Filter::Lanczos { radius: 4.0, tau: 3.0 },
+        Filter::Lanczos { radius: 2.0, tau: 2.0 },
     ];
 
     /// ∫f₁ and ∫|f₁| over [−r, r] by the midpoint rule on a fine grid.
@@ -416,15 +487,22 @@ mod tests {
             let mean = sum / n as f64;
             // Standard error ≤ 1/√n ≈ 0.001.
             assert!((mean - expected).abs() < 0.004, "{filter:?}: mean weight {mean}, expected {expected}");
-            if !matches!(filter, Filter::Mitchell { .. }) {
+            if !filter.has_negative_lobes() {
                 assert_eq!(mean, 1.0);
             }
         }
     }
 
     #[test]
-    fn mitchell_weights_match_the_sign_of_the_filter() {
-        let filter = Filter::Mitchell { radius: 2.0, b: 1.0 / 3.0, c: 1.0 / 3.0 };
+    fn mitchell_and_lanczos_weights_match_the_sign_of_the_filter() {
+        for filter in
+            [Filter::Mitchell { radius: 2.0, b: 1.0 / 3.0, c: 1.0 / 3.0 }, Filter::Lanczos { radius: 4.0, tau: 3.0 }]
+        {
+            weights_match_the_sign(filter);
+        }
+    }
+
+    fn weights_match_the_sign(filter: Filter) {
         let sampler = FilterSampler::new(filter);
         let mut negatives = 0;
         for u in jittered(1000, 1) {
@@ -470,6 +548,7 @@ mod tests {
             (Filter::Tent { radius: f32::INFINITY }, FilterError::Radius(f32::INFINITY)),
             (Filter::Gaussian { radius: 1.0, sigma: -0.5 }, FilterError::Sigma(-0.5)),
             (Filter::Mitchell { radius: 2.0, b: f32::NAN, c: 0.0 }, FilterError::Mitchell { b: f32::NAN, c: 0.0 }),
+            (Filter::Lanczos { radius: 4.0, tau: 0.0 }, FilterError::Tau(0.0)),
         ] {
             let got = FilterSampler::try_new(filter).map(|_| ()).unwrap_err();
             // NaN ≠ NaN: compare the messages.
@@ -491,5 +570,80 @@ mod tests {
             assert!((s - 1.0).abs() < 1e-6, "b {b} c {c}: {s}");
             assert!((f.eval_1d_f64(0.0) - (6.0 - 2.0 * b as f64) / 6.0).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn lanczos_is_one_at_zero_and_zero_at_the_integers() {
+        let f = Filter::Lanczos { radius: 4.0, tau: 3.0 };
+        assert_eq!(f.eval_1d_f64(0.0), 1.0);
+        assert_eq!(f.evaluate(Vec2::ZERO), 1.0);
+        for k in 1..=4 {
+            for x in [k as f64, -(k as f64)] {
+                assert!(f.eval_1d_f64(x).abs() < 1e-15, "{x}: {}", f.eval_1d_f64(x));
+            }
+        }
+        assert_eq!(f.eval_1d_f64(4.0001), 0.0);
+        // A known value: sinc(½)·sinc(1/6) = (2/π)·(3/π)·sin(π/6)·2 … i.e.
+        // (sin(π/2)/(π/2))·(sin(π/6)/(π/6)) = (2/π)·(3/π) = 6/π².
+        let v = f.eval_1d_f64(0.5);
+        assert!((v - 6.0 / std::f64::consts::PI.powi(2)).abs() < 1e-15, "{v}");
+        // The lobes: negative for 1 < |x| < 2, positive for 2 < |x| < 3, and
+        // positive again for 3 < |x| < 4, where the window sinc(x/3) is
+        // negative too.
+        assert!(f.eval_1d_f64(1.5) < 0.0 && f.eval_1d_f64(2.5) > 0.0 && f.eval_1d_f64(3.5) > 0.0);
+        // Continuous through the small-argument series.
+        assert!((f.eval_1d_f64(3.0e-5) - f.eval_1d_f64(4.0e-5)).abs() < 1e-8);
+    }
+
+    #[test]
+    fn lanczos_sampling_weight_is_normalised() {
+        // E[w] = (∫f/∫|f|)² (module docs), and the weighted estimate of
+        // ∫ g·f / ∫ f is unbiased: for g(x, y) = x², the filter's second
+        // moment, the two ratios agree.
+        let filter = Filter::Lanczos { radius: 4.0, tau: 3.0 };
+        let sampler = FilterSampler::new(filter);
+        let (s, a) = integrals_1d(&filter);
+        let (mut sum_w, mut sum_wg) = (0.0f64, 0.0f64);
+        let n = 1 << 20;
+        let mut rng = crate::sampling::Pcg32::new(11, 3);
+        for _ in 0..n {
+            let smp = sampler.sample(Vec2::new(rng.uniform(), rng.uniform()));
+            sum_w += smp.weight as f64;
+            sum_wg += smp.weight as f64 * (smp.offset.x as f64).powi(2);
+        }
+        let expected_w = (s / a).powi(2);
+        assert!((sum_w / n as f64 - expected_w).abs() < 0.005, "{} vs {expected_w}", sum_w / n as f64);
+        // ∫x² f₁(x) dx / ∫f₁ by the midpoint rule.
+        let m = 400_000;
+        let h = 8.0 / m as f64;
+        let (mut num, mut den) = (0.0, 0.0);
+        for i in 0..m {
+            let x = -4.0 + (i as f64 + 0.5) * h;
+            let v = filter.eval_1d_f64(x);
+            num += x * x * v * h;
+            den += v * h;
+        }
+        let got = sum_wg / sum_w;
+        assert!((got - num / den).abs() < 0.02, "{got} vs {}", num / den);
+    }
+
+    #[test]
+    fn pbrt_defaults() {
+        assert_eq!(Filter::pbrt_default("box"), Some(Filter::Box { radius: 0.5 }));
+        assert_eq!(Filter::pbrt_default("triangle"), Some(Filter::Tent { radius: 2.0 }));
+        assert_eq!(Filter::pbrt_default("gaussian"), Some(Filter::Gaussian { radius: 1.5, sigma: 0.5 }));
+        assert_eq!(
+            Filter::pbrt_default("mitchell"),
+            Some(Filter::Mitchell { radius: 2.0, b: 1.0 / 3.0, c: 1.0 / 3.0 })
+        );
+        assert_eq!(Filter::pbrt_default("sinc"), Some(Filter::Lanczos { radius: 4.0, tau: 3.0 }));
+        // pbrt-v4's Gaussian falls to zero at its radius: g(x) − g(r).
+        let g = Filter::pbrt_default("gaussian").unwrap();
+        assert_eq!(g.evaluate_1d(1.5), 0.0);
+        let expected = (-0.25f64 / 0.5).exp() - (-2.25f64 / 0.5).exp(); // x² = 0.25, r² = 2.25, 2σ² = 0.5
+        assert!((g.eval_1d_f64(0.5) - expected).abs() < 1e-15);
+        // Triangle: proportional to max(0, r − |x|).
+        let t = Filter::pbrt_default("triangle").unwrap();
+        assert_eq!(t.evaluate_1d(0.5) / t.evaluate_1d(0.0), 1.5 / 2.0);
     }
 }

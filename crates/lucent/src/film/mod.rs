@@ -5,12 +5,17 @@ mod accumulator;
 mod checkpoint;
 mod filter;
 mod output;
+mod sensor;
 mod tonemap;
 
 pub use accumulator::{fixed_contribution, Accumulator, FIXED_POINT_SCALE, MAX_CONTRIBUTION};
 pub use checkpoint::{load_checkpoint, save_checkpoint, CheckpointError};
 pub use filter::{Filter, FilterError, FilterSample, FilterSampler, TABLE_SEGMENTS};
 pub use output::{ImageFormat, OutputError, PendingImage};
+pub use sensor::{
+    film_response, imaging_ratio, pbrt_film_scale, validate_film_response, white_balance_matrix, white_balance_scale,
+    SensorError,
+};
 pub use tonemap::{srgb_encode, ToneMap};
 
 /// The film cannot be allocated: its size is unusable or the memory

@@ -185,7 +185,7 @@ impl SceneFile {
                 None => Filter::default(),
                 Some(f) => self.filter(&f)?,
             },
-            regularize: false,
+            ..RenderSettings::for_integrator(integrator)
         })
     }
 

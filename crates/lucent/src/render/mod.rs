@@ -17,7 +17,7 @@ pub use settings::{IntegratorKind, RenderSettings};
 /// [`RenderOptions::cancel`]).
 pub const CANCEL_PASS_INTERVAL: Duration = Duration::from_secs(5);
 
-use crate::film::{Accumulator, Film, FilmError};
+use crate::film::{validate_film_response, Accumulator, Film, FilmError, SensorError};
 use crate::integrator::{Integrator, PathIntegrator, RayStats, WhittedIntegrator};
 use crate::scene::Scene;
 use std::time::Duration;
@@ -112,6 +112,10 @@ pub enum RenderError {
     /// The worker pool could not start.
     #[error("cannot start {0} worker threads: {1}")]
     Threads(usize, String),
+    /// [`RenderSettings::film_scale`] or
+    /// [`RenderSettings::max_component`] is out of range.
+    #[error(transparent)]
+    FilmResponse(#[from] SensorError),
     /// [`RenderOptions::cancel`] was set.
     #[error("the render was interrupted")]
     Interrupted,
@@ -181,6 +185,7 @@ pub fn render_into_with<I: Integrator>(
     if options.spp.unwrap_or(settings.spp) == 0 || settings.spp == 0 {
         return Err(RenderError::NoSamples);
     }
+    validate_film_response(settings.film_scale, settings.max_component)?;
     in_pool(options.threads, || passes::run(scene, settings, integrator, acc, options))
 }
 

@@ -4,7 +4,7 @@
 //! result as one uninterrupted run.
 
 use super::{RenderError, RenderOptions, RenderReport, RenderSettings, CANCEL_PASS_INTERVAL};
-use crate::film::{fixed_contribution, Accumulator, Filter};
+use crate::film::{film_response, fixed_contribution, Accumulator, Filter};
 use crate::geometry::Vec2;
 use crate::integrator::{Integrator, RayStats};
 use crate::sampling::{Sampler, SamplerKind};
@@ -163,6 +163,7 @@ impl<I: Integrator> Pass<'_, I> {
         // with weight 1, and needs neither footprint nor filter value.
         let pixel_box = matches!(*self.filter, Filter::Box { radius } if radius == 0.5);
         let camera = self.scene.camera();
+        let (film_scale, max_component) = (settings.film_scale, settings.max_component);
         (0..h)
             .into_par_iter()
             .map_init(
@@ -189,6 +190,9 @@ impl<I: Integrator> Pass<'_, I> {
                                 bad += 1;
                                 continue;
                             }
+                            // The film's response (pbrt-v4's RGBFilm): scale,
+                            // then clamp, per sample.
+                            let l = film_response(l, film_scale, max_component);
                             // The pixels x + kx, y + ky whose centres lie within the
                             // filter radius r of the sample: offsets k with
                             // u − ½ − r < k ≤ u − ½ + r. The interval is half open,

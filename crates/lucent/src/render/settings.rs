@@ -1,5 +1,6 @@
 //! How a scene is rendered: [`RenderSettings`].
 
+use crate::color::Color;
 use crate::film::{Filter, ToneMap};
 use crate::sampling::SamplerKind;
 
@@ -28,6 +29,14 @@ pub struct RenderSettings {
     /// near-specular lobes after the first non-specular bounce (default
     /// false; the Whitted integrator ignores it).
     pub regularize: bool,
+    /// Per-channel factor applied to every sample's radiance before it
+    /// reaches the film (pbrt-v4's exposure and white balance,
+    /// [`crate::film::pbrt_film_scale`]); (1, 1, 1) by default.
+    pub film_scale: Color,
+    /// If set, a sample (after `film_scale`) whose largest component
+    /// exceeds this is scaled down to it (pbrt-v4's `maxcomponentvalue`),
+    /// taming fireflies at the cost of bias; `None` by default.
+    pub max_component: Option<f32>,
 }
 
 /// The light transport algorithms.
@@ -63,7 +72,7 @@ impl IntegratorKind {
 impl RenderSettings {
     /// The defaults of `integrator`: 16 samples per pixel, its own depth
     /// and sampler, a box filter, classic tone mapping, sRGB output, seed 0,
-    /// no regularisation.
+    /// no regularisation, film scale 1 and no sample clamp.
     pub fn for_integrator(integrator: IntegratorKind) -> Self {
         Self {
             spp: 16,
@@ -75,6 +84,8 @@ impl RenderSettings {
             sampler: integrator.default_sampler(),
             filter: Filter::default(),
             regularize: false,
+            film_scale: Color::ONE,
+            max_component: None,
         }
     }
 }
