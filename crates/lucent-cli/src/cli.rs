@@ -20,8 +20,10 @@ pub enum Command {
     Render(RenderArgs),
     /// Parse and validate a scene file without rendering it.
     Check {
-        /// The scene file (.toml or .json).
+        /// The scene file (.toml, .json or .pbrt).
         scene: PathBuf,
+        #[command(flatten)]
+        import: ImportArgs,
     },
     /// Measure rendering speed (Mrays/s) with 1 thread and with all threads.
     Bench(BenchArgs),
@@ -144,6 +146,8 @@ pub struct RenderArgs {
     pub output: Option<PathBuf>,
     #[command(flatten)]
     pub overrides: SceneOverrides,
+    #[command(flatten)]
+    pub import: ImportArgs,
     /// Worker threads, 1 to 1024 [default: all cores]. The image is
     /// identical for any thread count.
     #[arg(long, value_parser = thread_count())]
@@ -165,6 +169,19 @@ pub struct RenderArgs {
     /// to rendering in one go.
     #[arg(long)]
     pub resume: bool,
+}
+
+/// Options of the pbrt-v4 importer.
+#[derive(Args, Debug, Default)]
+pub struct ImportArgs {
+    /// pbrt-v4 scenes: make every warning (an unsupported feature or
+    /// parameter) an error.
+    #[arg(long)]
+    pub strict: bool,
+    /// pbrt-v4 scenes: light `infinite` lights that name an image with this
+    /// image instead (.exr, .hdr; for scenes shipped without theirs).
+    #[arg(long, value_name = "IMAGE")]
+    pub env: Option<PathBuf>,
 }
 
 /// A duration in seconds: a finite number > 0.

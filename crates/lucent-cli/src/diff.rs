@@ -22,7 +22,8 @@ pub struct DiffArgs {
     pub b: PathBuf,
     /// Print the figures as one JSON object: mse, rel_mse, max_abs_error,
     /// max_at ([x, y] or null), max_channel, nonfinite (pixels of A),
-    /// nonfinite_reference, width, height.
+    /// nonfinite_reference, mean and mean_reference ([r, g, b] over the
+    /// pixels compared), width, height.
     #[arg(long)]
     pub json: bool,
     /// Also write a false-colour map of each pixel's relative squared error
@@ -62,6 +63,8 @@ pub fn run(args: &DiffArgs) -> Result<(), String> {
             "max_channel": m.max_at.map(|(_, _, c)| CHANNELS[c]),
             "nonfinite": m.nonfinite,
             "nonfinite_reference": m.nonfinite_reference,
+            "mean": m.mean,
+            "mean_reference": m.mean_reference,
             "width": a.width(),
             "height": a.height(),
         });
@@ -77,6 +80,21 @@ pub fn run(args: &DiffArgs) -> Result<(), String> {
             CHANNELS[c]
         )?,
         None => say!("no pixel is finite in both images: nothing to compare")?,
+    }
+    if m.compared > 0 {
+        let ratio = |c: usize| if m.mean_reference[c] > 0.0 { m.mean[c] / m.mean_reference[c] } else { f64::NAN };
+        say!(
+            "mean r g b {:.5} {:.5} {:.5}  reference {:.5} {:.5} {:.5}  ratio {:.4} {:.4} {:.4}",
+            m.mean[0],
+            m.mean[1],
+            m.mean[2],
+            m.mean_reference[0],
+            m.mean_reference[1],
+            m.mean_reference[2],
+            ratio(0),
+            ratio(1),
+            ratio(2)
+        )?;
     }
     if m.nonfinite > 0 || m.nonfinite_reference > 0 {
         say!(

@@ -16,6 +16,7 @@ mod diff;
 mod progress;
 mod render;
 mod sky;
+mod source;
 
 use clap::Parser;
 use cli::{Cli, Command, RenderArgs};
@@ -30,7 +31,7 @@ fn main() -> ExitCode {
     let cli = Cli::try_parse().unwrap_or_else(|e| bench_rays::exit_on_parse_error(e));
     let result = match cli.command {
         Command::Render(args) => run_render(&args),
-        Command::Check { scene } => run_check(&scene),
+        Command::Check { scene, import } => run_check(&scene, &import),
         Command::Bench(args) => bench::run(&args),
         Command::BenchRays(args) => bench_rays::run(&args),
         Command::Diff(args) => diff::run(&args),
@@ -102,16 +103,14 @@ pub fn apply_overrides(file: &mut SceneFile, args: &cli::SceneOverrides) -> Resu
 
 fn run_render(args: &RenderArgs) -> Result<(), String> {
     render::handle_interrupts();
-    let mut file = load(args.scene.as_deref())?;
-    apply_overrides(&mut file, &args.overrides)?;
-    let loaded = file.build().map_err(|e| e.to_string())?;
-    warn(&loaded.scene, args.quiet);
+    let source = source::load(args.scene.as_deref(), &args.overrides, &args.import)?;
+    warn(&source.loaded.scene, args.quiet);
     let out_path = args.output.clone().unwrap_or_else(|| default_output(args.scene.as_deref()));
-    render::run(args, &file, &loaded, &out_path)
+    render::run(args, &source, &out_path)
 }
 
-fn run_check(path: &Path) -> Result<(), String> {
-    let loaded = SceneFile::load(path).and_then(|f| f.build()).map_err(|e| e.to_string())?;
+fn run_check(path: &Path, import: &cli::ImportArgs) -> Result<(), String> {
+    let loaded = source::load(Some(path), &cli::SceneOverrides::default(), import)?.loaded;
     let (scene, settings) = (&loaded.scene, &loaded.settings);
     warn(scene, false);
     let count = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
@@ -138,7 +137,11 @@ fn warn(scene: &lucent::scene::Scene, quiet: bool) {
 }
 
 fn default_output(scene: Option<&Path>) -> PathBuf {
-    let stem = scene.and_then(|p| p.file_stem()).map_or_else(|| "showcase".into(), |s| s.to_os_string());
+    let name =
+        scene.and_then(|p| p.file_name()).map_or_else(|| "showcase".into(), |s| s.to_string_lossy().into_owned());
+    // `scene.pbrt.gz` → `scene.png`
+    let stem = name.strip_suffix(".gz").unwrap_or(&name);
+    let stem = Path::new(stem).file_stem().map_or_else(|| stem.to_owned(), |s| s.to_string_lossy().into_owned());
     let mut name = PathBuf::from(stem);
     name.set_extension("png");
     name

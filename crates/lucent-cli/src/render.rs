@@ -4,8 +4,9 @@
 
 use crate::cli::RenderArgs;
 use crate::progress::FractionProgress;
+use crate::source::Source;
 use lucent::film::{load_checkpoint, save_checkpoint, Accumulator, CheckpointError, PendingImage};
-use lucent::loader::{LoadedScene, SceneFile, MAX_SPP};
+use lucent::loader::{LoadedScene, MAX_SPP};
 use lucent::render::{render_into, PassInfo, RenderError, RenderOptions};
 use lucent::sampling::SamplerKind;
 use std::path::{Path, PathBuf};
@@ -47,20 +48,15 @@ fn fnv1a(hash: u64, bytes: &[u8]) -> u64 {
 /// every mesh and environment file the scene read. The stratified sampler
 /// lays each pixel's samples out as grids of `spp`, so with it the sample
 /// count is part of the fingerprint too.
-fn fingerprint(file: &SceneFile, loaded: &LoadedScene) -> Result<u64, String> {
-    let mut d = file.description.clone();
-    d.render.spp = lucent::loader::SampleCount(1);
-    d.render.tone_map = Default::default();
-    d.render.srgb = true;
-    d.render.max_depth = None;
-    d.render.sampler = None;
+fn fingerprint(description: &str, loaded: &LoadedScene) -> Result<u64, String> {
+    let d = description;
     let mut settings = loaded.settings.clone();
     if settings.sampler != SamplerKind::Stratified {
         settings.spp = 1;
     }
     settings.tone_map = Default::default();
     settings.srgb = true;
-    let mut h = fnv1a(0xcbf2_9ce4_8422_2325, format!("{d:?}\n{settings:?}").as_bytes());
+    let mut h = fnv1a(0xcbf2_9ce4_8422_2325, format!("{d}\n{settings:?}").as_bytes());
     for path in &loaded.files {
         let bytes = std::fs::read(path).map_err(|e| format!("cannot read {} again: {e}", path.display()))?;
         h = fnv1a(fnv1a(h, path.to_string_lossy().as_bytes()), &bytes);
@@ -68,7 +64,8 @@ fn fingerprint(file: &SceneFile, loaded: &LoadedScene) -> Result<u64, String> {
     Ok(h)
 }
 
-pub fn run(args: &RenderArgs, file: &SceneFile, loaded: &LoadedScene, out_path: &Path) -> Result<(), String> {
+pub fn run(args: &RenderArgs, source: &Source, out_path: &Path) -> Result<(), String> {
+    let loaded = &source.loaded;
     let (scene, settings) = (&loaded.scene, &loaded.settings);
     let (w, h) = (scene.camera().width(), scene.camera().height());
     // Reserve the output now: a bad path fails before any rendering.
@@ -77,7 +74,7 @@ pub fn run(args: &RenderArgs, file: &SceneFile, loaded: &LoadedScene, out_path: 
     let keep_state = args.checkpoint_every.is_some() || args.resume;
     // The fingerprint reads every mesh and environment file again: only
     // when a checkpoint is written or read (or, below, on an interrupt).
-    let fp = if keep_state { fingerprint(file, loaded)? } else { 0 };
+    let fp = if keep_state { fingerprint(&source.description, loaded)? } else { 0 };
     let mut acc = if args.resume {
         if !ckpt.exists() {
             return Err(format!(
@@ -137,7 +134,7 @@ pub fn run(args: &RenderArgs, file: &SceneFile, loaded: &LoadedScene, out_path: 
             Ok(out) => Some(out),
             Err(RenderError::Interrupted) => {
                 bar.finish();
-                let fp = if keep_state { fp } else { fingerprint(file, loaded)? };
+                let fp = if keep_state { fp } else { fingerprint(&source.description, loaded)? };
                 return Err(interrupted(&ckpt, &acc, fp, resumed_at));
             }
             Err(e) => return Err(e.to_string()),

@@ -306,7 +306,11 @@ impl BxDF for Bxdf {
     /// Roughen near-specular lobes.
     fn regularize(&mut self) {
         match self {
-            Self::Black | Self::Diffuse(_) | Self::Phong(_) | Self::ThinDielectric(_) | Self::DiffuseTransmission(_) => {}
+            Self::Black
+            | Self::Diffuse(_)
+            | Self::Phong(_)
+            | Self::ThinDielectric(_)
+            | Self::DiffuseTransmission(_) => {}
             Self::Conductor(b) => b.regularize(),
             Self::Dielectric(b) => b.regularize(),
             Self::Plastic(b) => b.regularize(),

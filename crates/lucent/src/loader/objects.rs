@@ -139,7 +139,7 @@ impl SceneFile {
         at: Option<SourceLocation>,
     ) -> Result<(), SceneError> {
         let emission = match emission {
-            Some(radiance) => Some(Emission { radiance: radiance.into(), two_sided }),
+            Some(radiance) => Some(Emission { radiance: radiance.into(), two_sided, reverse: false }),
             None if two_sided => {
                 return Err(self.error(at, format!("{what}: `two_sided` applies only with `emission`")))
             }

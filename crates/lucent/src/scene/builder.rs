@@ -25,6 +25,9 @@ pub struct Emission {
     /// Whether both sides emit (otherwise only the front: a triangle's
     /// normal side, a sphere's outside).
     pub two_sided: bool,
+    /// Whether a one-sided emitter emits from its back instead (pbrt-v4's
+    /// `ReverseOrientation`; see [`AreaLight::reverse`]).
+    pub reverse: bool,
 }
 
 /// Why a primitive cannot be an area light.
@@ -376,7 +379,7 @@ impl SceneBuilder {
             shape,
             radiance: e.radiance,
             two_sided: e.two_sided,
-            reverse: false,
+            reverse: e.reverse,
         }));
         self.primitives.push(primitive.with_area_light(first));
         Ok(())
@@ -485,7 +488,12 @@ fn area_shapes(primitive: &Primitive, emission: Emission) -> Result<Vec<Shape>, 
         // Partial spheres, disks and cylinders keep their frame: their
         // world copy needs a similarity transform, as a sphere does.
         shape @ (Shape::Disk(_) | Shape::Cylinder(_)) => vec![shape.transformed(&t).ok_or(EmissionError::Ellipsoid)?],
-        shape @ Shape::Sphere(s) if s.clipping().is_some() => {
+        // A "partial" sphere that is whole (pbrt's parameterisation) is
+        // sampled as a sphere: by the cone it subtends.
+        shape @ Shape::Sphere(s)
+            if s.clipping()
+                .is_some_and(|(lo, hi, phi)| lo > -s.radius() || hi < s.radius() || phi < std::f32::consts::TAU) =>
+        {
             vec![shape.transformed(&t).ok_or(EmissionError::Ellipsoid)?]
         }
         Shape::Sphere(s) => {

@@ -130,6 +130,10 @@ pub struct DiffMetrics {
     pub nonfinite_reference: u64,
     /// Pixels compared: finite in both images.
     pub compared: u64,
+    /// The mean of each channel of `a` over the pixels compared.
+    pub mean: [f64; 3],
+    /// The mean of each channel of the reference over the same pixels.
+    pub mean_reference: [f64; 3],
 }
 
 /// The constant in the denominator of the relative squared error.
@@ -160,6 +164,7 @@ pub fn relative_squared_error(a: Color, b: Color) -> f64 {
 /// let m = compare(&a, &reference)?;
 /// assert!((m.mse - 0.09 / 6.0).abs() < 1e-6);
 /// assert_eq!(m.max_at, Some((1, 0, 1)));
+/// assert!((m.mean[1] - 0.15).abs() < 1e-6 && m.mean_reference == [0.0; 3]);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn compare(a: &Film, b: &Film) -> Result<DiffMetrics, CompareError> {
@@ -170,6 +175,7 @@ pub fn compare(a: &Film, b: &Film) -> Result<DiffMetrics, CompareError> {
     let mut max_abs_error = 0.0f64;
     let mut max_at = None;
     let (mut nonfinite, mut nonfinite_reference, mut compared) = (0u64, 0u64, 0u64);
+    let (mut sum_a, mut sum_b) = ([0.0f64; 3], [0.0f64; 3]);
     let w = a.width() as usize;
     for (i, (&pa, &pb)) in a.pixels().iter().zip(b.pixels()).enumerate() {
         let (fa, fb) = (pa.is_finite(), pb.is_finite());
@@ -181,6 +187,8 @@ pub fn compare(a: &Film, b: &Film) -> Result<DiffMetrics, CompareError> {
         compared += 1;
         for ch in 0..3 {
             let (va, vb) = (pa[ch] as f64, pb[ch] as f64);
+            sum_a[ch] += va;
+            sum_b[ch] += vb;
             let d = va - vb;
             se += d * d;
             rse += d * d / (vb * vb + REL_MSE_EPSILON);
@@ -191,7 +199,18 @@ pub fn compare(a: &Film, b: &Film) -> Result<DiffMetrics, CompareError> {
         }
     }
     let n = (compared * 3).max(1) as f64;
-    Ok(DiffMetrics { mse: se / n, rel_mse: rse / n, max_abs_error, max_at, nonfinite, nonfinite_reference, compared })
+    let pixels = compared.max(1) as f64;
+    Ok(DiffMetrics {
+        mse: se / n,
+        rel_mse: rse / n,
+        max_abs_error,
+        max_at,
+        nonfinite,
+        nonfinite_reference,
+        compared,
+        mean: sum_a.map(|s| s / pixels),
+        mean_reference: sum_b.map(|s| s / pixels),
+    })
 }
 
 #[cfg(test)]

@@ -556,9 +556,7 @@ impl<'r> Lexer<'r> {
                     let loc = self.loc_at(start, line, column, line_start);
                     return Err(PbrtError::at(
                         &loc,
-                        format!(
-                            "unknown escape `{shown}` in a string; accepted: \\\" \\\\ \\' \\n \\t \\r \\b \\f"
-                        ),
+                        format!("unknown escape `{shown}` in a string; accepted: \\\" \\\\ \\' \\n \\t \\r \\b \\f"),
                     ));
                 }
             };
@@ -934,7 +932,24 @@ mod tests {
 
     #[test]
     fn numbers_parse_exactly() {
-        for s in ["0", "1", "-1", "+2", ".5", "2.", "1e3", "1E-3", "-0.70710678", "3.4028234e38", "0.1", "123456789", "1.17549435e-38", "7e-46", "16777217", "0.000001"] {
+        for s in [
+            "0",
+            "1",
+            "-1",
+            "+2",
+            ".5",
+            "2.",
+            "1e3",
+            "1E-3",
+            "-0.70710678",
+            "3.4028234e38",
+            "0.1",
+            "123456789",
+            "1.17549435e-38",
+            "7e-46",
+            "16777217",
+            "0.000001",
+        ] {
             assert_eq!(parse_f32(s.as_bytes()), Ok(s.parse::<f32>().unwrap()), "{s}");
         }
         for s in ["", "-", ".", "e3", "1e", "1.2.3", "inf", "nan", "1x", "--1", "0x10"] {

@@ -93,11 +93,13 @@
 //! ```
 
 mod directive;
+mod import;
 mod lexer;
 mod params;
 mod parser;
 
 pub use directive::{ActiveTransform, Directive};
+pub use import::{import_pbrt, ImportOptions, Warnings};
 pub use lexer::LexStats;
 pub use params::{Loc, Param, ParamList, ParamType, ParamValues, PbrtError};
 pub use parser::{parse_file, parse_file_with_stats, parse_str, ParseStats, Sink, MAX_INCLUDE_DEPTH};

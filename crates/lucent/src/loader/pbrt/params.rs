@@ -263,15 +263,15 @@ impl ParamValues {
 
 impl Param {
     /// Its declaration as written in a file, canonical type name first:
-    /// `float radius`.
+    /// `"float radius"`, with the quotes.
     pub fn describe(&self) -> String {
-        format!("{} {}", self.ty.name(), self.name)
+        format!("\"{} {}\"", self.ty.name(), self.name)
     }
 
     /// An error at the parameter's declaration, its message prefixed with
     /// the quoted declaration: `"float radius": message`.
     pub fn error(&self, message: impl fmt::Display) -> PbrtError {
-        PbrtError::at(&self.loc, format!("\"{}\": {message}", self.describe()))
+        PbrtError::at(&self.loc, format!("{}: {message}", self.describe()))
     }
 
     fn one<T: Copy>(&self, values: &[T]) -> Result<T, PbrtError> {

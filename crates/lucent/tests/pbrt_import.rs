@@ -1,0 +1,345 @@
+//! The pbrt-v4 importer, directive by directive, from small synthetic
+//! files with exact expectations: transforms, camera rays, materials,
+//! lights and their power, settings, instancing, and the errors and
+//! warnings of files it cannot read or does not fully support.
+
+use lucent::color::Color;
+use lucent::geometry::{Vec2, Vec3};
+use lucent::light::Light;
+use lucent::loader::pbrt::{import_pbrt, ImportOptions};
+use lucent::loader::LoadedScene;
+use lucent::shapes::Shape;
+use std::f32::consts::PI;
+use std::path::PathBuf;
+
+/// Write `files` (name, text) to a fresh directory and import the first.
+fn import_files(files: &[(&str, &str)], options: &ImportOptions) -> Result<LoadedScene, String> {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in files {
+        let path = dir.path().join(name);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, text).unwrap();
+    }
+    import_pbrt(dir.path().join(files[0].0), options).map_err(|e| e.to_string())
+}
+
+fn import(text: &str) -> LoadedScene {
+    import_files(&[("scene.pbrt", text)], &ImportOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn import_err(text: &str) -> String {
+    match import_files(&[("scene.pbrt", text)], &ImportOptions::default()) {
+        Ok(_) => panic!("expected an error for:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+fn strict_err(text: &str) -> String {
+    match import_files(&[("scene.pbrt", text)], &ImportOptions { strict: true, ..Default::default() }) {
+        Ok(_) => panic!("expected a --strict error for:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+fn close(a: Vec3, b: Vec3) -> bool {
+    (a - b).length() < 1e-4 * (1.0 + b.length())
+}
+
+/// A world with one unit sphere, after `pre` (before WorldBegin) and
+/// `world` (after it).
+fn scene(pre: &str, world: &str) -> String {
+    format!("{pre}\nWorldBegin\n{world}\n")
+}
+
+const FILM: &str = "Film \"rgb\" \"integer xresolution\" 200 \"integer yresolution\" 100";
+
+#[test]
+fn transforms_compose_as_in_pbrt() {
+    // pbrt post-multiplies: the last transform given acts on the object first.
+    let s = import(&scene("", "Translate 1 0 0\nScale 2 2 2\nRotate 90 0 0 1\nShape \"sphere\""));
+    let t = s.scene.primitives()[0].transform();
+    assert!(close(t.point(Vec3::ZERO), Vec3::new(1.0, 0.0, 0.0)));
+    // x → (rotate) y → (scale) 2y → (translate) (1, 2, 0)
+    assert!(close(t.point(Vec3::X), Vec3::new(1.0, 2.0, 0.0)));
+}
+
+#[test]
+fn transform_and_concat_transform_read_columns() {
+    // 16 numbers, column by column: the translation is in 12–14.
+    let s = import(&scene(
+        "",
+        "Transform [ 1 0 0 0  0 1 0 0  0 0 1 0  5 6 7 1 ]\nConcatTransform [ 2 0 0 0  0 2 0 0  0 0 2 0  0 0 0 1 ]\nShape \"sphere\"",
+    ));
+    let t = s.scene.primitives()[0].transform();
+    assert!(close(t.point(Vec3::X), Vec3::new(7.0, 6.0, 7.0)));
+}
+
+#[test]
+fn attributes_save_and_restore_the_graphics_state() {
+    let s = import(&scene(
+        "",
+        "Material \"diffuse\" \"rgb reflectance\" [0.1 0.2 0.3]\nAttributeBegin\nTranslate 5 0 0\nMaterial \"diffuse\" \"rgb reflectance\" [0.9 0.9 0.9]\nShape \"sphere\"\nAttributeEnd\nShape \"sphere\"\nTransformBegin\nTranslate 0 3 0\nMaterial \"diffuse\"\nTransformEnd\nShape \"sphere\"",
+    ));
+    let p = s.scene.primitives();
+    assert_eq!(p.len(), 3);
+    assert!(close(p[0].transform().point(Vec3::ZERO), Vec3::new(5.0, 0.0, 0.0)));
+    assert!(close(p[1].transform().point(Vec3::ZERO), Vec3::ZERO));
+    assert_ne!(p[0].material(), p[1].material());
+    // TransformEnd restores the transform only: the material set inside stays.
+    assert!(close(p[2].transform().point(Vec3::ZERO), Vec3::ZERO));
+    assert_ne!(p[2].material(), p[1].material());
+}
+
+#[test]
+fn the_default_material_is_grey_diffuse() {
+    let s = import(&scene("", "Shape \"sphere\""));
+    let m = s.scene.material(s.scene.primitives()[0].material());
+    assert_eq!(
+        format!("{m:?}"),
+        format!("{:?}", lucent::material::Material::Diffuse { reflectance: Color::splat(0.5).into() })
+    );
+}
+
+/// The direction of the camera ray through film position `(x, y)`.
+fn ray_dir(s: &LoadedScene, x: f32, y: f32) -> Vec3 {
+    s.scene.camera().generate_ray(Vec2::new(x, y), Vec2::splat(0.5)).dir.normalize()
+}
+
+#[test]
+fn look_at_and_fov_on_the_shorter_axis() {
+    let s = import(&scene(&format!("LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\" \"float fov\" 90\n{FILM}"), ""));
+    assert!(close(ray_dir(&s, 100.0, 50.0), Vec3::Z));
+    // fov spans the shorter (vertical) axis: tan 45° = 1 at the top edge,
+    // 2 at the right edge (aspect 2). pbrt's camera space is left-handed:
+    // image right is up × view = +x here.
+    assert!(close(ray_dir(&s, 100.0, 0.0), Vec3::new(0.0, 1.0, 1.0).normalize()));
+    assert!(close(ray_dir(&s, 200.0, 50.0), Vec3::new(2.0, 0.0, 1.0).normalize()));
+    // Portrait: the horizontal axis is the shorter.
+    let s = import(&scene(
+        "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\" \"float fov\" 90\nFilm \"rgb\" \"integer xresolution\" 100 \"integer yresolution\" 200",
+        "",
+    ));
+    assert!(close(ray_dir(&s, 100.0, 100.0), Vec3::new(1.0, 0.0, 1.0).normalize()));
+    assert!(close(ray_dir(&s, 50.0, 0.0), Vec3::new(0.0, 2.0, 1.0).normalize()));
+}
+
+#[test]
+fn scale_minus_one_mirrors_the_image() {
+    let s = import(&scene(
+        &format!("Scale -1 1 1\nLookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\" \"float fov\" 90\n{FILM}"),
+        "",
+    ));
+    assert!(close(ray_dir(&s, 200.0, 50.0), Vec3::new(-2.0, 0.0, 1.0).normalize()));
+    assert!(close(ray_dir(&s, 100.0, 0.0), Vec3::new(0.0, 1.0, 1.0).normalize()));
+}
+
+#[test]
+fn film_sampler_integrator_and_filter_set_the_render() {
+    let s = import(&scene(
+        &format!(
+            "{FILM}\nSampler \"halton\" \"integer pixelsamples\" 37\nIntegrator \"path\" \"integer maxdepth\" 7 \"bool regularize\" true\nPixelFilter \"triangle\" \"float xradius\" 1 \"float yradius\" 1"
+        ),
+        "",
+    ));
+    assert_eq!((s.scene.camera().width(), s.scene.camera().height()), (200, 100));
+    assert_eq!(s.settings.spp, 37);
+    assert_eq!(s.settings.max_depth, 7);
+    assert!(s.settings.regularize);
+    assert_eq!(s.settings.filter, lucent::film::Filter::Tent { radius: 1.0 });
+    // pbrt-v4's defaults: 16 spp, maxdepth 5, a Gaussian of radius 1.5.
+    let d = import(&scene("", ""));
+    assert_eq!((d.settings.spp, d.settings.max_depth), (16, 5));
+    assert_eq!(d.settings.filter, lucent::film::Filter::Gaussian { radius: 1.5, sigma: 0.5 });
+    assert_eq!((d.scene.camera().width(), d.scene.camera().height()), (1280, 720));
+}
+
+#[test]
+fn film_iso_and_exposure_scale_the_image() {
+    let s = import(&scene("Film \"rgb\" \"float iso\" 400\nCamera \"perspective\" \"float shutterclose\" 0.5", ""));
+    assert!(close(s.settings.film_scale, Color::splat(2.0)));
+    let s = import(&scene("Film \"rgb\" \"float maxcomponentvalue\" 10", ""));
+    assert_eq!(s.settings.max_component, Some(10.0));
+}
+
+fn only_light(s: &LoadedScene) -> Light {
+    assert_eq!(s.scene.lights().len(), 1);
+    s.scene.lights()[0].clone()
+}
+
+#[test]
+fn point_light_power_and_position() {
+    let s = import(&scene("", "Translate 0 2 0\nLightSource \"point\" \"point3 from\" [1 0 0] \"float power\" 100"));
+    match only_light(&s) {
+        Light::Point { position, intensity, .. } => {
+            assert!(close(position, Vec3::new(1.0, 2.0, 0.0)));
+            // Φ = 4π I
+            assert!(close(intensity, Color::splat(100.0 / (4.0 * PI))));
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn distant_light_travels_from_from_to_to() {
+    let s = import(&scene(
+        "",
+        "LightSource \"distant\" \"point3 from\" [0 10 0] \"point3 to\" [0 0 0] \"rgb L\" [2 2 2] \"float scale\" 1.5",
+    ));
+    match only_light(&s) {
+        Light::Directional { direction, intensity } => {
+            assert!(close(direction, -Vec3::Y));
+            assert!(close(intensity, Color::splat(3.0)));
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn spot_light_cone() {
+    let s = import(&scene("", "LightSource \"spot\" \"point3 from\" [0 0 0] \"point3 to\" [0 0 -1] \"float coneangle\" 20 \"float conedelta\" 5"));
+    match only_light(&s) {
+        Light::Spot { direction, cos_total, cos_falloff_start, .. } => {
+            assert!(close(direction, -Vec3::Z));
+            assert!((cos_total - 20f32.to_radians().cos()).abs() < 1e-6);
+            assert!((cos_falloff_start - 15f32.to_radians().cos()).abs() < 1e-6);
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn coordinate_system_camera_places_lights_at_the_camera() {
+    let s = import(&scene(
+        "LookAt 1 2 3  1 2 4  0 1 0\nCamera \"perspective\"",
+        "AttributeBegin\nCoordSysTransform \"camera\"\nLightSource \"point\"\nAttributeEnd",
+    ));
+    match only_light(&s) {
+        Light::Point { position, .. } => assert!(close(position, Vec3::new(1.0, 2.0, 3.0))),
+        other => panic!("{other:?}"),
+    }
+}
+
+const QUAD: &str =
+    "Shape \"trianglemesh\" \"point3 P\" [0 0 0  1 0 0  1 1 0  0 1 0] \"integer indices\" [0 1 2  0 2 3]";
+
+#[test]
+fn area_lights_emit_from_the_front_and_reverse_orientation_flips_it() {
+    let front = import(&scene("", &format!("AreaLightSource \"diffuse\" \"rgb L\" [4 4 4]\n{QUAD}")));
+    let lights = front.scene.area_lights();
+    assert_eq!(lights.len(), 2);
+    let p = Vec3::new(0.5, 0.25, 0.0);
+    // The quad winds counter-clockwise around +z: it emits towards +z.
+    assert_eq!(lights[0].emitted(p, Vec3::Z), Color::splat(4.0));
+    assert_eq!(lights[0].emitted(p, -Vec3::Z), Color::ZERO);
+    let back =
+        import(&scene("", &format!("ReverseOrientation\nAreaLightSource \"diffuse\" \"rgb L\" [4 4 4]\n{QUAD}")));
+    assert_eq!(back.scene.area_lights()[0].emitted(p, -Vec3::Z), Color::splat(4.0));
+    assert_eq!(back.scene.area_lights()[0].emitted(p, Vec3::Z), Color::ZERO);
+    let two =
+        import(&scene("", &format!("AreaLightSource \"diffuse\" \"rgb L\" [4 4 4] \"bool twosided\" true\n{QUAD}")));
+    assert_eq!(two.scene.area_lights()[0].emitted(p, -Vec3::Z), Color::splat(4.0));
+}
+
+#[test]
+fn mirrored_area_lights_keep_their_side() {
+    // A mirroring transform turns the winding around; pbrt-v4 flips the
+    // normal back (transformSwapsHandedness), so the light still faces +z.
+    let s = import(&scene("", &format!("Scale -1 1 1\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\n{QUAD}")));
+    let p = Vec3::new(-0.5, 0.25, 0.0);
+    assert_eq!(s.scene.area_lights()[0].emitted(p, Vec3::Z), Color::ONE);
+    assert_eq!(s.scene.area_lights()[0].emitted(p, -Vec3::Z), Color::ZERO);
+}
+
+#[test]
+fn object_instances_share_their_meshes() {
+    let s = import(&scene(
+        "",
+        &format!("ObjectBegin \"quad\"\n{QUAD}\nObjectEnd\nTranslate 10 0 0\nObjectInstance \"quad\"\nTranslate 10 0 0\nObjectInstance \"quad\""),
+    ));
+    let p = s.scene.primitives();
+    assert_eq!(p.len(), 2);
+    match (p[0].shape(), p[1].shape()) {
+        (Shape::Mesh(a), Shape::Mesh(b)) => assert!(std::sync::Arc::ptr_eq(a, b)),
+        other => panic!("{other:?}"),
+    }
+    assert!(close(p[1].transform().point(Vec3::ZERO), Vec3::new(20.0, 0.0, 0.0)));
+}
+
+#[test]
+fn includes_resolve_relative_to_the_including_file() {
+    let s = import_files(
+        &[
+            ("scene.pbrt", "WorldBegin\nInclude \"geometry/part.pbrt\"\n"),
+            ("geometry/part.pbrt", "Include \"deeper.pbrt\"\n"),
+            ("geometry/deeper.pbrt", QUAD),
+        ],
+        &ImportOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(s.scene.primitives().len(), 1);
+    // Every scene file read is listed (for checkpoint fingerprints).
+    assert_eq!(s.files.iter().filter(|f| f.extension().is_some_and(|e| e == "pbrt")).count(), 3);
+}
+
+#[test]
+fn errors_have_file_line_and_column() {
+    let e = import_err("WorldBegin\nNamedMaterial \"missing\"\n");
+    assert!(e.contains("scene.pbrt:2:1"), "{e}");
+    assert!(e.contains("\"missing\" is not defined"), "{e}");
+    let e = import_err("WorldBegin\nMaterial \"plasticky\"\n");
+    assert!(e.contains("unknown material type \"plasticky\"") && e.contains("accepted: diffuse"), "{e}");
+    let e = import_err("Shape \"sphere\"\n");
+    assert!(e.contains("only allowed after WorldBegin"), "{e}");
+    let e = import_err("WorldBegin\nAttributeBegin\nShape \"sphere\"\n");
+    assert!(e.contains("never closed") && e.contains(":2:"), "{e}");
+    let e = import_err("WorldBegin\nAttributeEnd\n");
+    assert!(e.contains("AttributeEnd without"), "{e}");
+    let e = import_err("WorldBegin\nShape \"plymesh\" \"string filename\" \"nothere.ply\"\n");
+    assert!(e.contains("nothere.ply"), "{e}");
+    let e = import_err("WorldBegin\nShape \"sphere\" \"float radius\" -1\n");
+    assert!(e.contains("radius") && e.contains("positive"), "{e}");
+    let e = import_err("WorldBegin\nLightSource \"infinite\" \"string filename\" \"sky.exr\"\n");
+    assert!(e.contains("sky.exr") && e.contains("--env"), "{e}");
+}
+
+#[test]
+fn unsupported_features_warn_once_and_fail_under_strict() {
+    let text = scene("", "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\nShape \"sphere\" \"float radius\" 1 \"float bogus\" 3\nShape \"curve\"\nShape \"curve\"");
+    let s = import(&text);
+    let w = s.scene.warnings();
+    assert!(w.iter().any(|w| w.contains("MakeNamedMedium \"fog\" is ignored") && w.contains(":3:")), "{w:?}");
+    assert!(w.iter().any(|w| w.contains("\"float bogus\" is not used")), "{w:?}");
+    assert_eq!(w.iter().filter(|w| w.contains("curve")).count(), 1, "{w:?}");
+    let e = strict_err(&text);
+    assert!(e.contains("--strict"), "{e}");
+}
+
+#[test]
+fn conductor_spectra_and_blackbody_become_rgb() {
+    let s = import(&scene(
+        "",
+        "Material \"conductor\" \"spectrum eta\" \"metal-Au-eta\" \"spectrum k\" \"metal-Au-k\"\nShape \"sphere\"\nAttributeBegin\nAreaLightSource \"diffuse\" \"blackbody L\" 6500\nShape \"sphere\"\nAttributeEnd",
+    ));
+    let light = &s.scene.area_lights()[0];
+    // A blackbody has unit luminance, near white at 6500 K.
+    let y = lucent::color::luminance(light.radiance);
+    assert!((y - 1.0).abs() < 1e-3, "{:?}", light.radiance);
+    assert!(light.radiance.min_element() > 0.8 && light.radiance.max_element() < 1.2);
+    // Gold is red-yellow: k falls from red to blue.
+    let m = format!("{:?}", s.scene.material(s.scene.primitives()[0].material()));
+    assert!(m.contains("Conductor"), "{m}");
+}
+
+#[test]
+fn an_environment_override_replaces_a_missing_map() {
+    let dir = tempfile::tempdir().unwrap();
+    let sky = dir.path().join("sky.hdr");
+    let img = image::Rgb32FImage::from_pixel(8, 8, image::Rgb([0.5, 0.5, 0.5]));
+    img.save(&sky).unwrap();
+    let s = import_files(
+        &[("scene.pbrt", "WorldBegin\nLightSource \"infinite\" \"string filename\" \"missing.exr\"\n")],
+        &ImportOptions { environment: Some(PathBuf::from(&sky)), ..Default::default() },
+    )
+    .unwrap();
+    assert!(s.scene.environment().is_some());
+}
