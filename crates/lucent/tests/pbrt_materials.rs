@@ -39,18 +39,23 @@ fn render_path(scene: &Scene, spp: u32) -> Vec<Color> {
 #[test]
 fn an_interface_sphere_is_invisible() {
     // Skipping an interface draws no sample dimension, so the image is
-    // not only the same in expectation but bit for bit: the sphere sits
-    // between the camera and the ground and between the ground and the
-    // light (shadow rays pass through it as in pbrt-v4's volpath).
+    // not only the same in expectation but sample for sample, up to the
+    // rounding of rays restarted at the interface: the sphere sits between
+    // the camera and the ground and between the ground and the light
+    // (shadow rays pass through it as in pbrt-v4's volpath).
     let without = render_path(&scene(None, grey()), 4);
     let with = render_path(&scene(Some(Material::Interface), grey()), 4);
     assert!(without.iter().any(|c| c.max_element() > 0.01));
-    assert_eq!(without, with);
+    for (a, b) in without.iter().zip(&with) {
+        assert!((*a - *b).abs().max_element() <= 1e-4 * a.max_element().max(1e-3), "{a} vs {b}");
+    }
     // The Whitted integrator passes through it as well.
     let settings = RenderSettings { spp: 1, ..RenderSettings::default() };
     let a = render(&scene(None, grey()), &settings, RenderOptions::default()).unwrap().film;
     let b = render(&scene(Some(Material::Interface), grey()), &settings, RenderOptions::default()).unwrap().film;
-    assert_eq!(a.pixels(), b.pixels());
+    for (a, b) in a.pixels().iter().zip(b.pixels()) {
+        assert!((*a - *b).abs().max_element() <= 1e-4 * a.max_element().max(1e-3), "{a} vs {b}");
+    }
 }
 
 #[test]
@@ -65,11 +70,13 @@ fn a_mix_of_black_and_white_averages_to_its_amount() {
     let mut b = SceneBuilder::new(cam);
     let black = b.add_material(Material::Diffuse { reflectance: Texture::Constant(Color::ZERO) }).unwrap();
     let white = b.add_material(white).unwrap();
-    let mix = b.add_material(Material::Mix { materials: [black, white], amount: FloatTexture::Constant(0.25) }).unwrap();
+    let mix =
+        b.add_material(Material::Mix { materials: [black, white], amount: FloatTexture::Constant(0.25) }).unwrap();
     b.add_shape(Sphere::new(Vec3::new(0.0, -101.0, 0.0), 100.0).unwrap(), Transform::IDENTITY, mix).unwrap();
     b.add_light(Light::point(Vec3::new(0.5, 4.0, 1.5), Color::ONE, 20.0, Falloff::InverseSquare).unwrap());
     let mixed = render_path(&b.build().unwrap(), 64);
-    let (sum_ref, sum_mix): (f32, f32) = reference.iter().zip(&mixed).fold((0.0, 0.0), |(a, b), (r, m)| (a + r.x, b + m.x));
+    let (sum_ref, sum_mix): (f32, f32) =
+        reference.iter().zip(&mixed).fold((0.0, 0.0), |(a, b), (r, m)| (a + r.x, b + m.x));
     let ratio = sum_mix / sum_ref;
     assert!((ratio - 0.25).abs() < 0.02, "mixed/white = {ratio}");
 }

@@ -134,14 +134,7 @@ impl DielectricBxdf {
             if uc < pr / (pr + pt) {
                 let wi = Vec3::new(-wo.x, -wo.y, wo.z);
                 let f = Color::splat(r / wi.z.abs());
-                return Some(BsdfSample {
-                    f,
-                    wi,
-                    pdf: pr / (pr + pt),
-                    specular: true,
-                    transmission: false,
-                    eta: 1.0,
-                });
+                return Some(BsdfSample { f, wi, pdf: pr / (pr + pt), specular: true, transmission: false, eta: 1.0 });
             }
             let (wi, etap) = refract(wo, Vec3::Z, self.eta)?;
             if wi.z == 0.0 || t <= 0.0 {

@@ -101,7 +101,15 @@ impl<B: BxDF + Copy> LayeredBxdf<B> {
     /// normal f32, `g` clamped to [−0.99, 0.99], `albedo` to [0, 1], and
     /// `n_samples` to at least 1 (pbrt-v4's defaults: thickness 0.01,
     /// albedo 0, g 0, max_depth 10, n_samples 1).
-    pub fn new(top: DielectricBxdf, bottom: B, thickness: f32, albedo: Color, g: f32, max_depth: u32, n_samples: u32) -> Self {
+    pub fn new(
+        top: DielectricBxdf,
+        bottom: B,
+        thickness: f32,
+        albedo: Color,
+        g: f32,
+        max_depth: u32,
+        n_samples: u32,
+    ) -> Self {
         let thickness = if thickness.is_nan() { f32::MIN_POSITIVE } else { thickness.max(f32::MIN_POSITIVE) };
         let g = if g.is_nan() { 0.0 } else { g.clamp(-0.99, 0.99) };
         let albedo = albedo.clamp(Color::ZERO, Color::ONE);
@@ -154,10 +162,12 @@ impl<B: BxDF + Copy> LayeredBxdf<B> {
             // Into the layers through the top, and a direction pre-sampled
             // from wi for next-event estimation (importance transport: the
             // adjoint of the radiance BTDF).
-            let Some(wos) = self.sample_top(wo, r(), Vec2::new(r(), r()), TransportMode::Radiance, Lobes::TRANSMISSION) else {
+            let Some(wos) = self.sample_top(wo, r(), Vec2::new(r(), r()), TransportMode::Radiance, Lobes::TRANSMISSION)
+            else {
                 continue;
             };
-            let Some(wis) = self.sample_top(wi, r(), Vec2::new(r(), r()), TransportMode::Importance, Lobes::TRANSMISSION)
+            let Some(wis) =
+                self.sample_top(wi, r(), Vec2::new(r(), r()), TransportMode::Importance, Lobes::TRANSMISSION)
             else {
                 continue;
             };
@@ -218,7 +228,8 @@ impl<B: BxDF + Copy> LayeredBxdf<B> {
                 }
                 if z == exit_z {
                     // At the top, from inside: reflect back down.
-                    let Some(bs) = self.sample_top(-w, r(), Vec2::new(r(), r()), TransportMode::Radiance, Lobes::REFLECTION)
+                    let Some(bs) =
+                        self.sample_top(-w, r(), Vec2::new(r(), r()), TransportMode::Radiance, Lobes::REFLECTION)
                     else {
                         break;
                     };
@@ -232,7 +243,11 @@ impl<B: BxDF + Copy> LayeredBxdf<B> {
                         if !top_specular {
                             wt = power_heuristic(wis.pdf, self.bottom.pdf(-w, -wis.wi));
                         }
-                        f += beta * self.bottom.f(-w, -wis.wi) * wis.wi.z.abs() * wt * Self::tr(self.thickness, wis.wi)
+                        f += beta
+                            * self.bottom.f(-w, -wis.wi)
+                            * wis.wi.z.abs()
+                            * wt
+                            * Self::tr(self.thickness, wis.wi)
                             * wis.f
                             / wis.pdf;
                     }
@@ -308,7 +323,8 @@ impl<B: BxDF + Copy> LayeredBxdf<B> {
         }
         let mut w = bs.wi;
         let mut specular_path = bs.specular;
-        let mut rng = Pcg32::new(hash_dir(wo), mix_seed(&[uc.to_bits() as u64, u.x.to_bits() as u64, u.y.to_bits() as u64]));
+        let mut rng =
+            Pcg32::new(hash_dir(wo), mix_seed(&[uc.to_bits() as u64, u.x.to_bits() as u64, u.y.to_bits() as u64]));
         let mut r = || rng.uniform();
         let mut f = bs.f * bs.wi.z.abs();
         let mut pdf = bs.pdf;

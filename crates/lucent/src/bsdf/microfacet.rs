@@ -54,7 +54,15 @@ impl TrowbridgeReitz {
     /// is raised to at least 1e-4, as in PBRT-v4: a distribution smooth in
     /// one direction only would divide by zero in `D`.
     pub fn anisotropic(alpha_x: f32, alpha_y: f32) -> Self {
-        let clean = |a: f32| if a > 0.0 && a.is_finite() { a } else if a == f32::INFINITY { 1e4 } else { 0.0 };
+        let clean = |a: f32| {
+            if a > 0.0 && a.is_finite() {
+                a
+            } else if a == f32::INFINITY {
+                1e4
+            } else {
+                0.0
+            }
+        };
         let (mut ax, mut ay) = (clean(alpha_x), clean(alpha_y));
         if ax.max(ay) >= SMOOTH_ALPHA {
             ax = ax.max(1e-4);

@@ -469,7 +469,10 @@ fn delta_lobes_have_no_density() {
         }
     }
     let specular: Vec<_> = all_bxdfs().into_iter().filter(|(_, b)| b.is_specular()).map(|(n, _)| n).collect();
-    assert_eq!(specular, ["conductor mirror", "dielectric smooth", "dielectric η1", "phong mirror only", "thin dielectric"]);
+    assert_eq!(
+        specular,
+        ["conductor mirror", "dielectric smooth", "dielectric η1", "phong mirror only", "thin dielectric"]
+    );
 }
 
 #[test]
@@ -852,7 +855,8 @@ fn anisotropic_pdf_integrates_to_the_fraction_of_samples() {
         let q = pdf_integral(&b, wo);
         let mut rng = Pcg32::new(77, 1);
         let n = 200_000;
-        let ok = (0..n).filter(|_| b.sample_f(wo, rng.uniform(), Vec2::new(rng.uniform(), rng.uniform())).is_some()).count();
+        let ok =
+            (0..n).filter(|_| b.sample_f(wo, rng.uniform(), Vec2::new(rng.uniform(), rng.uniform())).is_some()).count();
         let frac = ok as f64 / n as f64;
         let se = (frac * (1.0 - frac) / n as f64).sqrt();
         eprintln!("{name}: ∫pdf {q:.5}, sampled fraction {frac:.5}");
@@ -1120,4 +1124,3 @@ fn plastic_approximates_coated_diffuse() {
     // The documented figure (0.24, at α = 0.4), with statistical margin.
     assert!(worst < 0.26, "{worst}");
 }
-

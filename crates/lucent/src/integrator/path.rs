@@ -262,8 +262,7 @@ impl Integrator for PathIntegrator {
             let u_light = sampler.get_1d();
             let u_point = sampler.get_2d();
             if !bsdf.is_specular() && self.direct != DirectLighting::BsdfOnly {
-                radiance +=
-                    beta * self.sample_light(scene, &si, &bsdf, wo, u_light, u_point, stats, &mut interfaces);
+                radiance += beta * self.sample_light(scene, &si, &bsdf, wo, u_light, u_point, stats, &mut interfaces);
             }
 
             // Continue the path by sampling the BSDF.

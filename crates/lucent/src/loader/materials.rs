@@ -55,10 +55,9 @@ impl SceneFile {
                     (Some(color), None, None, None) => {
                         ConductorFresnel::Schlick { r0: Texture::Constant(color.into()) }
                     }
-                    (None, Some(eta), Some(k), None) => ConductorFresnel::Complex {
-                        eta: Texture::Constant(eta.into()),
-                        k: Texture::Constant(k.into()),
-                    },
+                    (None, Some(eta), Some(k), None) => {
+                        ConductorFresnel::Complex { eta: Texture::Constant(eta.into()), k: Texture::Constant(k.into()) }
+                    }
                     (None, None, None, Some(metal)) => {
                         let (eta, k) = metal_ior(metal);
                         ConductorFresnel::Complex { eta: eta.into(), k: k.into() }

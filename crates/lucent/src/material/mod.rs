@@ -201,10 +201,7 @@ impl Default for CoatedConductorMaterial {
         Self {
             interface_roughness: Roughness::default(),
             interface_eta: 1.5,
-            conductor: ConductorFresnel::Complex {
-                eta: Texture::Constant(COPPER_ETA),
-                k: Texture::Constant(COPPER_K),
-            },
+            conductor: ConductorFresnel::Complex { eta: Texture::Constant(COPPER_ETA), k: Texture::Constant(COPPER_K) },
             conductor_roughness: Roughness::default(),
             thickness: FloatTexture::Constant(0.01),
             albedo: Texture::Constant(Color::ZERO),
@@ -414,7 +411,9 @@ impl Material {
     pub fn with_ka(mut self, ka: f32) -> Result<Self, MaterialError> {
         match &mut self {
             Self::Classic(c) => c.ka = coefficient("ka", ka)?,
-            Self::Shaded { material, .. } => **material = std::mem::replace(&mut **material, Self::Interface).with_ka(ka)?,
+            Self::Shaded { material, .. } => {
+                **material = std::mem::replace(&mut **material, Self::Interface).with_ka(ka)?
+            }
             _ => {}
         }
         Ok(self)
@@ -559,9 +558,10 @@ impl Material {
                 }
             }
             Self::Diffuse { reflectance } => Bxdf::diffuse(unit(reflectance.evaluate(ctx))),
-            Self::Conductor { fresnel, roughness } => {
-                Bxdf::Conductor(ConductorBxdf { fresnel: conductor_fresnel(fresnel, ctx, 1.0), distrib: roughness.distribution(ctx) })
-            }
+            Self::Conductor { fresnel, roughness } => Bxdf::Conductor(ConductorBxdf {
+                fresnel: conductor_fresnel(fresnel, ctx, 1.0),
+                distrib: roughness.distribution(ctx),
+            }),
             Self::Dielectric { eta, roughness, tint } => {
                 Bxdf::Dielectric(DielectricBxdf::new(*eta, roughness.distribution(ctx), *tint))
             }
@@ -776,8 +776,8 @@ mod tests {
         assert!((g.ns - Vec3::new(0.0, 1.0, -1.0).normalize()).length() < 1e-5, "{}", g.ns);
         assert!(g.dpdu.dot(g.ns).abs() < 1e-6 && g.dpdv.dot(g.ns).abs() < 1e-6);
         // Through a material, into the BSDF's frame.
-        let m = Material::Diffuse { reflectance: Texture::Constant(Color::ONE) }
-            .with_normal_map(Color::new(1.0, 0.5, 1.0));
+        let m =
+            Material::Diffuse { reflectance: Texture::Constant(Color::ONE) }.with_normal_map(Color::new(1.0, 0.5, 1.0));
         let bsdf = m.bsdf_at(&ctx, &[]).unwrap();
         assert!((bsdf.frame().z - Vec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-5);
     }
