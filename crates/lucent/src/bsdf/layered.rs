@@ -15,8 +15,17 @@
 //!   scattering events from `wo` into the layers, adding at every vertex
 //!   the contribution of leaving towards `wi` (next-event estimation
 //!   through the top, with a direction pre-sampled from `wi`, combined by
-//!   the power heuristic), exactly as PBRT-v4's `LayeredBxDF::f`; walks
-//!   are cut by Russian roulette once their weight is small.
+//!   the power heuristic), as PBRT-v4's `LayeredBxDF::f`; walks are cut by
+//!   Russian roulette once their weight is small. One deliberate
+//!   difference: where PBRT-v4 weights the strategy "sample the base (or
+//!   the phase function), evaluate the exit" against "sample the exit from
+//!   `wi`", it uses the coat's density of `wi` given the inside direction,
+//!   whereas the other strategy's weight uses the density of the inside
+//!   direction given `wi`; the two are in different measures, the weights
+//!   do not sum to one and a rough coat's `f` came out about 8% too bright
+//!   against the sampled albedo. Here both use the density of the inside
+//!   direction given `wi`, and the quadrature of `f` matches the sampled
+//!   albedo (test `white_coated_diffuse_reflects_nearly_all_light`).
 //! * `sample_f` follows one walk until it leaves through the top; the
 //!   product of the `f`s over the product of the pdfs along it is an
 //!   unbiased estimate of `f · cos θi / pdf` for the direction it leaves
@@ -26,7 +35,20 @@
 //!   paths), mixed with a uniform density:
 //!   `0.1 · 1/(2π) + 0.9 · estimate` (PBRT-v4 mixes with `1/(4π)` over the
 //!   sphere; this BxDF reflects only, so the uniform part lives on `wo`'s
-//!   hemisphere).
+//!   hemisphere). Unlike PBRT-v4 the two terms are weighted by the coat's
+//!   Fresnel reflectance `R(wo)` and `1 − R(wo)`; the estimate is still
+//!   only roughly normalised (the refraction's change of solid angle is
+//!   not accounted for: its integral over the hemisphere, measured in the
+//!   tests, is about 1.5 for a smooth coat over a diffuse base), which is
+//!   all MIS needs.
+//!
+//! As in PBRT-v4, a medium with `albedo` 0 still absorbs: light crossing
+//! the slab is attenuated by `exp(−thickness/|cos θ|)`, so a white base
+//! under the default coat (thickness 0.01) reflects about 92% of the light
+//! at normal incidence, not all of it. A rough coat loses more (about 66%
+//! remains at α = 0.3): each internal bounce off the rough dielectric is
+//! single-scattering microfacet reflection, which loses the light its
+//! masked facets would scatter again.
 //!
 //! The random numbers of each estimate come from a PCG32 generator seeded
 //! with a hash of the directions (of `wo` and `wi`, or of `wo` and the
@@ -46,6 +68,7 @@
 //! opaque).
 
 use super::dielectric::DielectricBxdf;
+use super::fresnel::fr_dielectric;
 use super::{same_hemisphere, BsdfSample, BxDF, ConductorBxdf, DiffuseBxdf, Lobes, TransportMode};
 use crate::color::Color;
 use crate::geometry::{Frame, Vec2, Vec3};
@@ -203,7 +226,7 @@ impl<B: BxDF + Copy> LayeredBxdf<B> {
                         if ((z < exit_z && w.z > 0.0) || (z > exit_z && w.z < 0.0)) && !top_specular {
                             let f_exit = self.top.f_mode(-w, wi, TransportMode::Radiance);
                             if f_exit.max_element() > 0.0 {
-                                let exit_pdf = self.top.pdf_lobes(-w, wi, Lobes::TRANSMISSION);
+                                let exit_pdf = self.top.pdf_lobes(wi, -w, Lobes::TRANSMISSION);
                                 let wt = power_heuristic(p_p, exit_pdf);
                                 f += beta * Self::tr(zp - exit_z, wi_p) * f_exit * wt;
                             }
@@ -248,7 +271,7 @@ impl<B: BxDF + Copy> LayeredBxdf<B> {
                         if f_exit.max_element() > 0.0 {
                             let mut wt = 1.0;
                             if !bottom_specular {
-                                let exit_pdf = self.top.pdf_lobes(-w, wi, Lobes::TRANSMISSION);
+                                let exit_pdf = self.top.pdf_lobes(wi, -w, Lobes::TRANSMISSION);
                                 wt = power_heuristic(bs.pdf, exit_pdf);
                             }
                             f += beta * Self::tr(self.thickness, bs.wi) * f_exit * wt;
@@ -267,27 +290,35 @@ impl<B: BxDF + Copy> LayeredBxdf<B> {
         let n = self.n_samples;
         let mut rng = Pcg32::new(hash_dir(wi), hash_dir(wo));
         let mut r = || rng.uniform();
-        let mut pdf_sum = n as f32 * self.top.pdf_lobes(wo, wi, Lobes::REFLECTION);
+        // PBRT-v4 adds the two terms unweighted, which makes the estimate
+        // integrate to about 2 for a rough coat; weighting them by the
+        // coat's Fresnel reflectance R(wo) and 1 − R(wo), the probabilities
+        // of the walk's first event, brings it near 1 (it is only used for
+        // MIS weights, so either choice is unbiased).
+        let r_o = if self.top.eta == 1.0 { 0.0 } else { fr_dielectric(wo.z, self.top.eta) };
+        let mut pdf_sum = n as f32 * r_o * self.top.pdf_lobes(wo, wi, Lobes::REFLECTION);
+        let mut trt_sum = 0.0;
         for _ in 0..n {
             // Transmission–reflection–transmission.
             let wos = self.sample_top(wo, r(), Vec2::new(r(), r()), TransportMode::Radiance, Lobes::TRANSMISSION);
             let wis = self.sample_top(wi, r(), Vec2::new(r(), r()), TransportMode::Importance, Lobes::TRANSMISSION);
             let (Some(wos), Some(wis)) = (wos, wis) else { continue };
             if self.top.is_specular() {
-                pdf_sum += self.bottom.pdf(-wos.wi, -wis.wi);
+                trt_sum += self.bottom.pdf(-wos.wi, -wis.wi);
             } else if let Some(rs) = self.sample_bottom(-wos.wi, r(), Vec2::new(r(), r())) {
                 if self.bottom.is_specular() {
-                    pdf_sum += self.top.pdf_lobes(-rs.wi, wi, Lobes::ALL);
+                    trt_sum += self.top.pdf_lobes(-rs.wi, wi, Lobes::ALL);
                 } else {
                     // Two estimates of the product of the base's and the
                     // top's densities, combined by the power heuristic.
                     let r_pdf = self.bottom.pdf(-wos.wi, -wis.wi);
-                    pdf_sum += power_heuristic(wis.pdf, r_pdf) * r_pdf;
+                    trt_sum += power_heuristic(wis.pdf, r_pdf) * r_pdf;
                     let t_pdf = self.top.pdf_lobes(-rs.wi, wi, Lobes::ALL);
-                    pdf_sum += power_heuristic(rs.pdf, t_pdf) * t_pdf;
+                    trt_sum += power_heuristic(rs.pdf, t_pdf) * t_pdf;
                 }
             }
         }
+        pdf_sum += (1.0 - r_o) * trt_sum;
         0.1 * UNIFORM_HEMISPHERE_PDF + 0.9 * pdf_sum / n as f32
     }
 

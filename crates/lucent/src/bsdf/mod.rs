@@ -423,7 +423,7 @@ pub fn shading_frame(ns: Vec3, dpdu: Vec3) -> Frame {
     let x = dpdu - ns * ns.dot(dpdu);
     let len2 = x.length_squared();
     // Reject tangents (nearly) parallel to ns: their direction is noise.
-    if !(len2 > 1e-12 * dpdu.length_squared()) || !len2.is_finite() || len2 == 0.0 {
+    if !len2.is_finite() || len2 <= 1e-12 * dpdu.length_squared() {
         return Frame::from_z(ns);
     }
     let x = x / len2.sqrt();

@@ -28,6 +28,17 @@
 //!
 //! The coat index is clamped to `[1, 3]` (the range of the table).
 //! Reflection only, two-sided.
+//!
+//! Against pbrt-v4's stochastic coated diffuse
+//! ([`super::CoatedDiffuseBxdf`]) with the same base, coat index 1.5 and
+//! roughness (its default thickness 0.01, no medium, walks of 100 events),
+//! the directional albedos (per channel, bases (0.8, 0.4, 0.1) and 0.5,
+//! cos θo = 0.9, 0.5, 0.2; test `plastic_approximates_coated_diffuse`)
+//! differ by at most 0.038 for a smooth coat, 0.076 at α = 0.1 and 0.24
+//! at α = 0.4, plastic always the brighter: the coated model's slab absorbs
+//! a little (`exp(−0.01/cos θ)` per crossing) and, above all, its rough
+//! coat scatters only once per interface event and so loses energy, while
+//! plastic hands all of it to the base.
 
 use super::fresnel::{fr_dielectric, fr_dielectric_hemispherical};
 use super::microfacet::TrowbridgeReitz;

@@ -721,4 +721,131 @@ mod tests {
         assert!(Material::matte(Color::ONE, -0.1).is_err());
         assert!(Material::phong(Color::ONE, 0.5, 0.5, 10.0, f32::NAN).is_err());
     }
+
+    fn plane_ctx() -> MaterialContext {
+        MaterialContext {
+            p: Vec3::new(0.3, 0.0, -0.2),
+            n: Vec3::Y,
+            ns: Vec3::Y,
+            uv: Vec2::new(0.3, 0.2),
+            dpdu: Vec3::X,
+            dpdv: -Vec3::Z,
+            wo: Vec3::new(0.0, 0.8, 0.6),
+        }
+    }
+
+    #[test]
+    fn bump_ramp_tilts_the_normal_by_atan_a() {
+        // d = a·u on the plane y = 0 (∂p/∂u = x, ∂p/∂v = −z, n = y): the
+        // displaced surface rises along x with slope a, so its normal is
+        // (−a, 1, 0)/√(1 + a²), tilted by atan(a) away from +u.
+        for a in [0.1f32, 0.5, 2.0] {
+            let ctx = plane_ctx();
+            let g = bump_map(&ctx, |tc| a * tc.uv.x);
+            let expected = Vec3::new(-a, 1.0, 0.0).normalize();
+            assert!((g.ns - expected).length() < 1e-4, "a {a}: {}", g.ns);
+            let tilt = g.ns.dot(Vec3::Y).acos();
+            assert!((tilt - a.atan()).abs() < 1e-4, "a {a}: tilt {tilt}");
+            // ∂p'/∂u = ∂p/∂u + a n.
+            assert!((g.dpdu - Vec3::new(1.0, a, 0.0)).length() < 1e-3);
+        }
+        // A constant displacement changes nothing.
+        let ctx = plane_ctx();
+        let m = Material::Diffuse { reflectance: Texture::Constant(Color::ONE) }.with_bump(0.3);
+        let r = m.resolve(&ctx, &[]).unwrap();
+        assert!((r.shading.ns - Vec3::Y).length() < 1e-6);
+        // A bump on a surface whose normal points against ∂p/∂u × ∂p/∂v
+        // keeps the normal's side.
+        let flipped = MaterialContext { dpdv: Vec3::Z, ..ctx };
+        let g = bump_map(&flipped, |tc| 0.5 * tc.uv.x);
+        assert!(g.ns.y > 0.0 && (g.ns - Vec3::new(-0.5, 1.0, 0.0).normalize()).length() < 1e-4);
+    }
+
+    #[test]
+    fn normal_map_reads_tangent_space_normals() {
+        let ctx = plane_ctx();
+        // (0.5, 0.5, 1) is the unperturbed normal.
+        let g = normal_map(&ctx, Color::new(0.5, 0.5, 1.0));
+        assert!((g.ns - Vec3::Y).length() < 1e-6);
+        // (1, 0.5, 0.5) + tilt: 2·rgb − 1 = (1, 0, 1)/√2 leans 45° towards
+        // ∂p/∂u.
+        let g = normal_map(&ctx, Color::new(1.0, 0.5, 1.0));
+        assert!((g.ns - Vec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-5, "{}", g.ns);
+        // Towards ∂p/∂v (= −z here).
+        let g = normal_map(&ctx, Color::new(0.5, 1.0, 1.0));
+        assert!((g.ns - Vec3::new(0.0, 1.0, -1.0).normalize()).length() < 1e-5, "{}", g.ns);
+        assert!(g.dpdu.dot(g.ns).abs() < 1e-6 && g.dpdv.dot(g.ns).abs() < 1e-6);
+        // Through a material, into the BSDF's frame.
+        let m =
+            Material::Diffuse { reflectance: Texture::Constant(Color::ONE) }.with_normal_map(Color::new(1.0, 0.5, 1.0));
+        let bsdf = m.bsdf_at(&ctx, &[]).unwrap();
+        assert!((bsdf.frame().z - Vec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-5);
+    }
+
+    #[test]
+    fn mix_choice_is_deterministic_and_matches_amount() {
+        let ids = [MaterialId::new(0), MaterialId::new(1)];
+        let ctx = plane_ctx();
+        assert_eq!(Material::mix_choice(&ids, &FloatTexture::Constant(0.0), &ctx), ids[0]);
+        assert_eq!(Material::mix_choice(&ids, &FloatTexture::Constant(-1.0), &ctx), ids[0]);
+        assert_eq!(Material::mix_choice(&ids, &FloatTexture::Constant(1.0), &ctx), ids[1]);
+        let mut rng = crate::sampling::Pcg32::new(9, 9);
+        for amount in [0.1f32, 0.5, 0.8] {
+            let n = 100_000;
+            let mut second = 0;
+            for _ in 0..n {
+                let c = MaterialContext {
+                    p: Vec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 10.0,
+                    wo: Vec3::new(rng.uniform() - 0.5, 1.0, rng.uniform() - 0.5).normalize(),
+                    ..ctx
+                };
+                let a = Material::mix_choice(&ids, &FloatTexture::Constant(amount), &c);
+                assert_eq!(a, Material::mix_choice(&ids, &FloatTexture::Constant(amount), &c), "deterministic");
+                second += (a == ids[1]) as u32;
+            }
+            let p = second as f64 / n as f64;
+            let se = (amount as f64 * (1.0 - amount as f64) / n as f64).sqrt();
+            assert!((p - amount as f64).abs() < 4.0 * se, "amount {amount}: {p}");
+        }
+    }
+
+    #[test]
+    fn resolve_follows_mixes_to_interfaces() {
+        let materials = vec![
+            Material::Interface,
+            Material::Diffuse { reflectance: Texture::Constant(Color::ONE) },
+            Material::Mix { materials: [MaterialId::new(0), MaterialId::new(1)], amount: FloatTexture::Constant(0.0) },
+        ];
+        let ctx = plane_ctx();
+        assert!(materials[0].resolve(&ctx, &materials).is_none());
+        assert!(materials[2].resolve(&ctx, &materials).is_none());
+        assert!(materials[2].passes_through(&ctx, &materials));
+        let to_diffuse =
+            Material::Mix { materials: [MaterialId::new(0), MaterialId::new(1)], amount: FloatTexture::Constant(1.0) };
+        let r = to_diffuse.resolve(&ctx, &materials).unwrap();
+        assert_eq!(r.material, &materials[1]);
+        // A mix that refers to itself ends as black instead of looping.
+        let selfish = vec![Material::Mix {
+            materials: [MaterialId::new(0), MaterialId::new(0)],
+            amount: FloatTexture::Constant(0.5),
+        }];
+        assert_eq!(selfish[0].resolve(&ctx, &selfish).unwrap().material, &BLACK);
+    }
+
+    #[test]
+    fn pbrt_roughness_is_remapped_and_anisotropic() {
+        let ctx = TextureContext::from_uv(Vec2::ZERO);
+        let d = Roughness::anisotropic(0.04, 0.25, true).distribution(&ctx);
+        assert!((d.alpha_x() - 0.2).abs() < 1e-6 && (d.alpha_y() - 0.5).abs() < 1e-6);
+        let d = Roughness::alpha(0.3).distribution(&ctx);
+        assert_eq!((d.alpha_x(), d.alpha_y()), (0.3, 0.3));
+        // pbrt-v4's reflectance parameter of a conductor: exact Fresnel
+        // with that reflectance at normal incidence.
+        let m = Material::Conductor {
+            fresnel: ConductorFresnel::Reflectance { r: Texture::Constant(Color::new(0.9, 0.5, 0.1)) },
+            roughness: Roughness::default(),
+        };
+        let Bxdf::Conductor(c) = m.bxdf_at(&ctx) else { panic!() };
+        assert!((c.fresnel.eval(1.0) - Color::new(0.9, 0.5, 0.1)).abs().max_element() < 1e-4);
+    }
 }
