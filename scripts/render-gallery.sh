@@ -42,4 +42,24 @@ else
   exit 1
 fi
 
-echo "rendered ${#scenes[@]} scenes into docs/gallery/ in $((SECONDS - start)) s"
+# pbrt-v4 scenes from ../shared (imported by `lucent render scene.pbrt`),
+# at reduced size and sample counts.
+shared=../shared
+pbrt=0
+if [ -d "$shared" ]; then
+  render_pbrt() {
+    local name=$1 file=$2
+    shift 2
+    cargo run --release --quiet -- render "$file" -o "docs/gallery/$name.png" --quiet "$@"
+    pbrt=$((pbrt + 1))
+  }
+  render_pbrt pbrt-cornell-box "$shared/references/cornell-box/scene-v4.pbrt" --width 400 --height 400 --spp 128
+  render_pbrt pbrt-veach-mis "$shared/references/veach-mis/scene-v4.pbrt" --width 640 --height 360 --spp 64
+  render_pbrt pbrt-killeroo-simple "$shared/data/pbrt-v4/killeroos/killeroo-simple.pbrt" --width 350 --height 350 --spp 64
+  render_pbrt pbrt-killeroo-coated-gold "$shared/data/pbrt-v4/killeroos/killeroo-coated-gold.pbrt" --width 684 --height 513 --spp 32
+  render_pbrt pbrt-bmw-m6 "$shared/data/pbrt-v4/bmw-m6/bmw-m6.pbrt" --env scenes/sky.hdr --width 700 --height 500 --spp 32
+else
+  echo "../shared is absent: the pbrt-v4 scenes are not rendered" >&2
+fi
+
+echo "rendered $((${#scenes[@]} + pbrt)) scenes into docs/gallery/ in $((SECONDS - start)) s"

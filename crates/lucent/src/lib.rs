@@ -14,18 +14,18 @@
 //!
 //! | layer | modules | what they answer |
 //! |---|---|---|
-//! | foundations | [`geometry`], [`color`], [`texels`] | vectors, rays, bounds, transforms, floating-point error; RGB; grids of texels |
+//! | foundations | [`geometry`], [`color`], [`spectrum`], [`texels`] | vectors, rays, bounds, transforms, floating-point error; RGB; spectra and colour spaces made RGB; grids of texels |
 //! | sampling | [`sampling`] | random and low-discrepancy numbers, warps, distributions |
 //! | acceleration | [`accel`] | a BVH over boxes, built and traversed |
 //! | geometry of objects | [`mesh`], [`shapes`] | triangle meshes from files; where a ray hits a shape |
-//! | appearance | [`texture`], [`bsdf`], [`material`] | how surfaces reflect light |
+//! | appearance | [`texture`], [`bsdf`], [`material`] | images and procedural textures; how surfaces reflect light |
 //! | hits | [`interaction`], [`primitive`] | shapes placed with materials; the nearest hit of many |
 //! | emission | [`light`] | point, spot, directional, area and environment lights |
 //! | the world | [`camera`], [`scene`] | the camera; an immutable [`scene::Scene`] made by a [`scene::SceneBuilder`] |
 //! | the image | [`film`] | reconstruction filters, the accumulator, tone mapping, image files |
 //! | light transport | [`integrator`] | radiance along a camera ray |
 //! | the loop | [`render`] | [`render::RenderSettings`] and the parallel, deterministic render loop |
-//! | ways in | [`loader`] | TOML/JSON scene files, built through the scene builder |
+//! | ways in | [`loader`] | TOML/JSON scene files and pbrt-v4 scenes ([`loader::pbrt`]), built through the scene builder |
 //! | tools | [`tools`] | image comparison, procedural skies, benchmark meshes: used by the program and tests, never by the layers above |
 //!
 //! One sample goes: the [`render`] loop asks the [`sampling::Sampler`] for
