@@ -461,11 +461,10 @@ impl<'r> Lexer<'r> {
                 }
             }
             let at = self.abs(i);
-            let more = self.fill()?;
-            i = self.index(at);
-            if !more && i >= self.end {
+            if !self.fill()? {
                 return Err(self.unterminated(t, "the file"));
             }
+            i = self.index(at);
         }
     }
 
@@ -1035,6 +1034,10 @@ mod tests {
         assert!(e.message.starts_with("unterminated string"), "{e}");
         let l = e.loc.unwrap();
         assert_eq!((l.line, l.column), (1, 7));
+        // A backslash at the very end.
+        let mut lx = lexer("\"abc\\");
+        let e = lx.next().unwrap_err();
+        assert!(e.message.contains("before the end of the file"), "{e}");
         let mut lx = lexer("Shape \x01x");
         lx.next().unwrap();
         let e = lx.next().unwrap_err();
