@@ -144,9 +144,15 @@ ObjectInstance "tree"
                 p(T::String, "filename", ParamValues::Strings(vec![s("out.exr")])),
             ],
         ),
-        (D::Sampler(s("zsobol"), ParamList::default()), vec![p(T::Integer, "pixelsamples", ParamValues::Ints(vec![16]))]),
+        (
+            D::Sampler(s("zsobol"), ParamList::default()),
+            vec![p(T::Integer, "pixelsamples", ParamValues::Ints(vec![16]))],
+        ),
         (D::PixelFilter(s("gaussian"), ParamList::default()), vec![p(T::Float, "radius", floats(&[1.5]))]),
-        (D::Integrator(s("volpath"), ParamList::default()), vec![p(T::Integer, "maxdepth", ParamValues::Ints(vec![5]))]),
+        (
+            D::Integrator(s("volpath"), ParamList::default()),
+            vec![p(T::Integer, "maxdepth", ParamValues::Ints(vec![5]))],
+        ),
         (D::Accelerator(s("bvh"), ParamList::default()), vec![]),
         (D::TransformTimes(0., 1.), vec![]),
         (D::WorldBegin, vec![]),
@@ -282,8 +288,20 @@ fn every_parameter_type_and_alias() {
 fn numbers_are_read_exactly() {
     // Each must be the nearest f32, as the standard library reads it.
     let numbers = [
-        "0.1", "-0.70710678", "3.14159265358979", "1e-5", "6.02214076e23", "16777217", "0.000000059604645",
-        "1.17549435e-38", "3.4028235e38", "123456789012345678", "-0", "+.5", "7.", "2.5E+2",
+        "0.1",
+        "-0.70710678",
+        "3.14159265358979",
+        "1e-5",
+        "6.02214076e23",
+        "16777217",
+        "0.000000059604645",
+        "1.17549435e-38",
+        "3.4028235e38",
+        "123456789012345678",
+        "-0",
+        "+.5",
+        "7.",
+        "2.5E+2",
     ];
     let text = format!("Shape \"s\" \"float f\" [ {} ]", numbers.join(" "));
     let (_, got) = split(parse_ok(&text).remove(0));
@@ -518,14 +536,39 @@ const CORPUS: &[(&str, u32, u32, &str)] = &[
     ("Translate 1 2\nShape \"sphere\"", 2, 1, "`Translate` needs 3 numbers after 2; found `Shape`"),
     ("Translate 1 2 3 4", 1, 17, "found the number 4 (too many numbers? `Translate x y z`)"),
     ("Rotate 90 0 1", 1, 14, "`Rotate` needs 4 numbers after 3"),
-    ("Shape \"s\" \"point3 P\" [ 1 2 3 4 ]", 1, 11, "\"point3 P\" needs 3 numbers (x y z) per point3: a multiple of 3; given 4"),
+    (
+        "Shape \"s\" \"point3 P\" [ 1 2 3 4 ]",
+        1,
+        11,
+        "\"point3 P\" needs 3 numbers (x y z) per point3: a multiple of 3; given 4",
+    ),
     ("Shape \"s\" \"normal N\" [ 1 2 ]", 1, 11, "a multiple of 3; given 2"),
     ("Shape \"s\" \"point2 uv\" [ 1 2 3 ]", 1, 11, "a multiple of 2; given 3"),
-    ("Material \"diffuse\" \"rgb reflectance\" [ 1 2 ]", 1, 20, "\"rgb reflectance\" needs exactly 3 numbers (r g b); given 2"),
-    ("LightSource \"point\" \"blackbody I\" [ 3000 1 ]", 1, 21, "needs exactly one number, a temperature in kelvin; given 2"),
-    ("Material \"conductor\" \"spectrum eta\" [ 300 1 400 ]", 1, 22, "wavelength–value pairs (an even count of numbers); given 3"),
+    (
+        "Material \"diffuse\" \"rgb reflectance\" [ 1 2 ]",
+        1,
+        20,
+        "\"rgb reflectance\" needs exactly 3 numbers (r g b); given 2",
+    ),
+    (
+        "LightSource \"point\" \"blackbody I\" [ 3000 1 ]",
+        1,
+        21,
+        "needs exactly one number, a temperature in kelvin; given 2",
+    ),
+    (
+        "Material \"conductor\" \"spectrum eta\" [ 300 1 400 ]",
+        1,
+        22,
+        "wavelength–value pairs (an even count of numbers); given 3",
+    ),
     ("Shape \"s\" \"float r\" [ ]", 1, 21, "\"float r\" has no values"),
-    ("Option \"bool a\" true \"integer seed\" 3", 1, 22, "expected a directive such as `Shape`; found the string \"integer seed\" (`Option` takes no parameter list)"),
+    (
+        "Option \"bool a\" true \"integer seed\" 3",
+        1,
+        22,
+        "expected a directive such as `Shape`; found the string \"integer seed\" (`Option` takes no parameter list)",
+    ),
     // Unknown directives and types.
     ("AtributeBegin", 1, 1, "unknown directive `AtributeBegin`; did you mean `AttributeBegin`?"),
     ("WorldBegin\n  shape \"sphere\"", 2, 3, "did you mean `Shape`?"),

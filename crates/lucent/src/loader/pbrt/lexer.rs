@@ -555,9 +555,7 @@ impl<'r> Lexer<'r> {
                     let loc = self.loc_at(start, line, column, line_start);
                     return Err(PbrtError::at(
                         &loc,
-                        format!(
-                            "unknown escape `{shown}` in a string; accepted: \\\" \\\\ \\' \\n \\t \\r \\b \\f"
-                        ),
+                        format!("unknown escape `{shown}` in a string; accepted: \\\" \\\\ \\' \\n \\t \\r \\b \\f"),
                     ));
                 }
             };
@@ -713,8 +711,8 @@ pub(crate) fn shorten(s: &str) -> Cow<'_, str> {
 
 /// Powers of ten exact in `f64` (5²² < 2⁵³).
 const POW10: [f64; 23] = [
-    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18,
-    1e19, 1e20, 1e21, 1e22,
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
+    1e21, 1e22,
 ];
 
 /// Reads a decimal number at the start of `b` (`-1`, `.5`, `2.`, `1e-3`,
@@ -1080,7 +1078,24 @@ mod tests {
 
     #[test]
     fn numbers_parse_exactly() {
-        for s in ["0", "1", "-1", "+2", ".5", "2.", "1e3", "1E-3", "-0.70710678", "3.4028234e38", "0.1", "123456789", "1.17549435e-38", "7e-46", "16777217", "0.000001"] {
+        for s in [
+            "0",
+            "1",
+            "-1",
+            "+2",
+            ".5",
+            "2.",
+            "1e3",
+            "1E-3",
+            "-0.70710678",
+            "3.4028234e38",
+            "0.1",
+            "123456789",
+            "1.17549435e-38",
+            "7e-46",
+            "16777217",
+            "0.000001",
+        ] {
             assert_eq!(parse_f32(s.as_bytes()), Ok(s.parse::<f32>().unwrap()), "{s}");
         }
         for s in ["", "-", ".", "e3", "1e", "1.2.3", "inf", "nan", "1x", "--1", "0x10"] {

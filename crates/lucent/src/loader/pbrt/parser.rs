@@ -143,7 +143,10 @@ fn dir_of(path: &Path) -> PathBuf {
 enum Step {
     Directive(Directive),
     /// `Include`/`Import` of the file `name`, written at `name_loc`.
-    Include { name: String, name_loc: Loc },
+    Include {
+        name: String,
+        name_loc: Loc,
+    },
 }
 
 impl<'r> Parser<'r> {
@@ -198,8 +201,7 @@ impl<'r> Parser<'r> {
         let canonical = std::fs::canonicalize(&path).ok();
         if let Some(c) = &canonical {
             if let Some(i) = self.files.iter().position(|f| f.canonical.as_ref() == Some(c)) {
-                let chain: Vec<String> =
-                    self.files[i..].iter().map(|f| f.lexer.file().display().to_string()).collect();
+                let chain: Vec<String> = self.files[i..].iter().map(|f| f.lexer.file().display().to_string()).collect();
                 return Err(PbrtError::at(
                     &name_loc,
                     format!(
@@ -395,10 +397,8 @@ fn keyword(lx: &mut Lexer<'_>, t: &Token, last: Option<Kw>) -> Result<(Kw, Loc),
 /// near enough to be a likely typo.
 fn suggestion(word: &str) -> Option<&'static str> {
     let lower = word.to_ascii_lowercase();
-    let (name, d) = KEYWORDS
-        .iter()
-        .map(|k| (k.0, edit_distance(&lower, &k.0.to_ascii_lowercase())))
-        .min_by_key(|&(_, d)| d)?;
+    let (name, d) =
+        KEYWORDS.iter().map(|k| (k.0, edit_distance(&lower, &k.0.to_ascii_lowercase()))).min_by_key(|&(_, d)| d)?;
     (d <= 1 + word.chars().count() / 4).then_some(name)
 }
 
@@ -426,12 +426,8 @@ fn directive(lx: &mut Lexer<'_>, kw: Kw) -> Result<Step, PbrtError> {
         Kw::Camera => D::Camera(string_arg(lx, kw, "the camera type, such as \"perspective\"")?, params(lx)?),
         Kw::Film => D::Film(string_arg(lx, kw, "the film type, such as \"rgb\"")?, params(lx)?),
         Kw::Sampler => D::Sampler(string_arg(lx, kw, "the sampler type, such as \"zsobol\"")?, params(lx)?),
-        Kw::PixelFilter => {
-            D::PixelFilter(string_arg(lx, kw, "the filter type, such as \"gaussian\"")?, params(lx)?)
-        }
-        Kw::Integrator => {
-            D::Integrator(string_arg(lx, kw, "the integrator type, such as \"volpath\"")?, params(lx)?)
-        }
+        Kw::PixelFilter => D::PixelFilter(string_arg(lx, kw, "the filter type, such as \"gaussian\"")?, params(lx)?),
+        Kw::Integrator => D::Integrator(string_arg(lx, kw, "the integrator type, such as \"volpath\"")?, params(lx)?),
         Kw::Accelerator => D::Accelerator(string_arg(lx, kw, "the accelerator type, such as \"bvh\"")?, params(lx)?),
         Kw::ColorSpace => D::ColorSpace(string_arg(lx, kw, "a color space name, such as \"srgb\"")?),
         Kw::Option => D::Option(option(lx)?),
@@ -439,7 +435,8 @@ fn directive(lx: &mut Lexer<'_>, kw: Kw) -> Result<Step, PbrtError> {
         Kw::AttributeBegin => D::AttributeBegin,
         Kw::AttributeEnd => D::AttributeEnd,
         Kw::Attribute => {
-            let (target, loc) = string_arg_loc(lx, kw, "the target: \"shape\", \"light\", \"material\", \"medium\" or \"texture\"")?;
+            let (target, loc) =
+                string_arg_loc(lx, kw, "the target: \"shape\", \"light\", \"material\", \"medium\" or \"texture\"")?;
             if !matches!(target.as_str(), "shape" | "light" | "material" | "medium" | "texture") {
                 return Err(PbrtError::at(
                     &loc,
@@ -476,9 +473,7 @@ fn directive(lx: &mut Lexer<'_>, kw: Kw) -> Result<Step, PbrtError> {
         Kw::ReverseOrientation => D::ReverseOrientation,
         Kw::Shape => D::Shape(string_arg(lx, kw, "the shape type, such as \"sphere\"")?, params(lx)?),
         Kw::Material => D::Material(string_arg(lx, kw, "the material type, such as \"diffuse\"")?, params(lx)?),
-        Kw::MakeNamedMaterial => {
-            D::MakeNamedMaterial(string_arg(lx, kw, "the material's name")?, params(lx)?)
-        }
+        Kw::MakeNamedMaterial => D::MakeNamedMaterial(string_arg(lx, kw, "the material's name")?, params(lx)?),
         Kw::NamedMaterial => D::NamedMaterial(string_arg(lx, kw, "the name of a material")?),
         Kw::Texture => {
             let name = string_arg(lx, kw, "the texture's name")?;
@@ -502,9 +497,7 @@ fn directive(lx: &mut Lexer<'_>, kw: Kw) -> Result<Step, PbrtError> {
             D::Texture { name, value_type, class, params: params(lx)? }
         }
         Kw::LightSource => D::LightSource(string_arg(lx, kw, "the light type, such as \"point\"")?, params(lx)?),
-        Kw::AreaLightSource => {
-            D::AreaLightSource(string_arg(lx, kw, "the area light type, \"diffuse\"")?, params(lx)?)
-        }
+        Kw::AreaLightSource => D::AreaLightSource(string_arg(lx, kw, "the area light type, \"diffuse\"")?, params(lx)?),
         Kw::MakeNamedMedium => D::MakeNamedMedium(string_arg(lx, kw, "the medium's name")?, params(lx)?),
         Kw::MediumInterface => {
             let inside = string_arg(lx, kw, "the name of the inside medium (\"\" for none)")?;
@@ -533,12 +526,11 @@ fn wrong(lx: &mut Lexer<'_>, t: &Token, kw: Kw, needs: &str) -> PbrtError {
         format!("unexpected end of file: `{}` needs {needs} (`{}`)", kw.name(), kw.usage())
     } else {
         let found = lx.describe(t);
-        let quote_hint =
-            if t.kind == TokenKind::Word && !found.starts_with("the number") && needs.contains('"') {
-                " (strings are written in double quotes)"
-            } else {
-                ""
-            };
+        let quote_hint = if t.kind == TokenKind::Word && !found.starts_with("the number") && needs.contains('"') {
+            " (strings are written in double quotes)"
+        } else {
+            ""
+        };
         format!("`{}` needs {needs}; found {found}{quote_hint}", kw.name())
     };
     PbrtError::at(&lx.loc(t), message)
@@ -669,7 +661,9 @@ fn param(lx: &mut Lexer<'_>, decl: &Token) -> Result<Param, PbrtError> {
         }
         (Some(w), None, _) => {
             let message = if ParamType::from_name(w).is_some() {
-                format!("parameter declaration \"{w}\" has no name: write the type and the name, such as \"{w} radius\"")
+                format!(
+                    "parameter declaration \"{w}\" has no name: write the type and the name, such as \"{w} radius\""
+                )
             } else {
                 format!(
                     "parameter declaration \"{}\" has no type: write the type and the name, such as \"float {}\"; \
@@ -692,17 +686,38 @@ fn param(lx: &mut Lexer<'_>, decl: &Token) -> Result<Param, PbrtError> {
         }
     };
     let Some(ty) = ParamType::from_name(type_name) else {
-        let near = ["integer", "float", "point2", "vector2", "point3", "vector3", "normal", "rgb", "blackbody",
-            "spectrum", "bool", "string", "texture", "point", "vector", "normal3", "color"]
-            .into_iter()
-            .map(|n| (n, edit_distance(&type_name.to_ascii_lowercase(), n)))
-            .min_by_key(|&(_, d)| d)
-            .filter(|&(_, d)| d <= 2)
-            .map(|(n, _)| format!(" (did you mean `{n}`?)"))
-            .unwrap_or_default();
+        let near = [
+            "integer",
+            "float",
+            "point2",
+            "vector2",
+            "point3",
+            "vector3",
+            "normal",
+            "rgb",
+            "blackbody",
+            "spectrum",
+            "bool",
+            "string",
+            "texture",
+            "point",
+            "vector",
+            "normal3",
+            "color",
+        ]
+        .into_iter()
+        .map(|n| (n, edit_distance(&type_name.to_ascii_lowercase(), n)))
+        .min_by_key(|&(_, d)| d)
+        .filter(|&(_, d)| d <= 2)
+        .map(|(n, _)| format!(" (did you mean `{n}`?)"))
+        .unwrap_or_default();
         return Err(PbrtError::at(
             &loc,
-            format!("unknown parameter type `{}` in \"{}\"{near}; the types are {TYPES}", shorten(type_name), shorten(&text)),
+            format!(
+                "unknown parameter type `{}` in \"{}\"{near}; the types are {TYPES}",
+                shorten(type_name),
+                shorten(&text)
+            ),
         ));
     };
     let name = name.to_owned();
@@ -743,9 +758,7 @@ fn needs(ty: ParamType) -> &'static str {
         ParamType::Bool => "true or false",
         ParamType::String => "quoted strings",
         ParamType::Texture => "the quoted name of a texture",
-        ParamType::Spectrum => {
-            "numbers (wavelength–value pairs) or quoted strings (a named spectrum or an .spd file)"
-        }
+        ParamType::Spectrum => "numbers (wavelength–value pairs) or quoted strings (a named spectrum or an .spd file)",
         _ => "numbers",
     }
 }
@@ -811,15 +824,21 @@ fn values(lx: &mut Lexer<'_>, ty: ParamType, decl: &str) -> Result<ParamValues, 
             },
             |lx, out| lx.fast_ints(out),
         )?),
-        ParamType::Bool => ParamValues::Bools(list(lx, first, decl, |lx, t| {
-            if lx.is(t, "true") {
-                Ok(true)
-            } else if lx.is(t, "false") {
-                Ok(false)
-            } else {
-                Err(wrong_value(lx, t, ty, decl))
-            }
-        }, no_fast)?),
+        ParamType::Bool => ParamValues::Bools(list(
+            lx,
+            first,
+            decl,
+            |lx, t| {
+                if lx.is(t, "true") {
+                    Ok(true)
+                } else if lx.is(t, "false") {
+                    Ok(false)
+                } else {
+                    Err(wrong_value(lx, t, ty, decl))
+                }
+            },
+            no_fast,
+        )?),
         ParamType::String | ParamType::Texture => ParamValues::Strings(list(
             lx,
             first,
