@@ -461,11 +461,10 @@ impl<'r> Lexer<'r> {
                 }
             }
             let at = self.abs(i);
-            let more = self.fill()?;
-            i = self.index(at);
-            if !more && i >= self.end {
+            if !self.fill()? {
                 return Err(self.unterminated(t, "the file"));
             }
+            i = self.index(at);
         }
     }
 
@@ -710,17 +709,27 @@ pub(crate) fn shorten(s: &str) -> Cow<'_, str> {
     }
 }
 
-/// Powers of ten exact in `f32` (5¹⁰ < 2²⁴).
-const POW10_F32: [f32; 11] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10];
+/// Powers of ten exact in `f64` (5²² < 2⁵³).
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
+    1e21, 1e22,
+];
 
-/// Parses a decimal number (`-1`, `.5`, `2.`, `1e-3`, `+4.0E2`) as the
-/// nearest `f32`. Numbers whose digits and exponent are exact in `f32`
-/// (up to 2²⁴ and 10¹⁰: most numbers written by exporters) take one
-/// correctly rounded multiplication or division (Clinger's fast path,
-/// "How to read floating point numbers accurately", PLDI 1990); the rest
-/// go to the standard library's correctly rounded parser. `inf`, `nan`,
-/// and numbers beyond the `f32` range are refused.
-pub(crate) fn parse_f32(b: &[u8]) -> Result<f32, NumberError> {
+/// Reads a decimal number at the start of `b` (`-1`, `.5`, `2.`, `1e-3`,
+/// `+4.0E2`) when the fast path gives the correctly rounded `f32`; returns
+/// it and the bytes read, or `None` to leave it to [`parse_f32`].
+///
+/// The fast path is Clinger's ("How to read floating point numbers
+/// accurately", PLDI 1990): when the digits `m` are below 2⁵³ and the
+/// decimal exponent `e` within ±22, `m` and `10^|e|` are exact in `f64` and
+/// one multiplication or division rounds `m·10^e` correctly to `f64`.
+/// Rounding that on to `f32` is the correct `f32` unless the `f64` lies
+/// exactly halfway between two `f32`s (those midpoints have 25 significant
+/// bits, so are `f64`s: a decimal on the other side of a midpoint cannot
+/// round to an `f64` beyond it, only onto it); that case, subnormal and
+/// overflowing results go to the slow path.
+#[inline]
+fn fast_decimal(b: &[u8]) -> Option<(f32, usize)> {
     let mut i = 0;
     let negative = match b.first() {
         Some(b'-') => {
@@ -733,96 +742,229 @@ pub(crate) fn parse_f32(b: &[u8]) -> Result<f32, NumberError> {
         }
         _ => false,
     };
-    let mut mantissa: u64 = 0;
-    let mut exponent: i32 = 0;
-    let mut any = false;
+    let mut m: u64 = 0;
+    let mut digits = 0u32;
     while i < b.len() && b[i].is_ascii_digit() {
-        if mantissa < (1 << 40) {
-            mantissa = mantissa * 10 + u64::from(b[i] - b'0');
-        } else {
-            exponent += 1;
+        m = m.wrapping_mul(10).wrapping_add(u64::from(b[i] - b'0'));
+        digits += 1;
+        i += 1;
+    }
+    let mut e: i32 = 0;
+    if i < b.len() && b[i] == b'.' {
+        i += 1;
+        while i < b.len() && b[i].is_ascii_digit() {
+            m = m.wrapping_mul(10).wrapping_add(u64::from(b[i] - b'0'));
+            digits += 1;
+            e -= 1;
+            i += 1;
         }
-        any = true;
+    }
+    if digits == 0 || digits > 19 {
+        return None;
+    }
+    if i < b.len() && (b[i] | 0x20) == b'e' {
+        i += 1;
+        let negative_e = match b.get(i) {
+            Some(b'-') => {
+                i += 1;
+                true
+            }
+            Some(b'+') => {
+                i += 1;
+                false
+            }
+            _ => false,
+        };
+        let mut x: i32 = 0;
+        let from = i;
+        while i < b.len() && b[i].is_ascii_digit() && i - from < 4 {
+            x = x * 10 + i32::from(b[i] - b'0');
+            i += 1;
+        }
+        if i == from {
+            return None;
+        }
+        e += if negative_e { -x } else { x };
+    }
+    if m >= 1 << 53 || !(-22..=22).contains(&e) {
+        return None;
+    }
+    let x = if e >= 0 { m as f64 * POW10[e as usize] } else { m as f64 / POW10[(-e) as usize] };
+    if m != 0 {
+        if !(f64::from(f32::MIN_POSITIVE)..=f64::from(f32::MAX)).contains(&x) {
+            return None;
+        }
+        // Exactly halfway between two f32s: the 29 bits f32 drops are 100…0.
+        if x.to_bits() & ((1 << 29) - 1) == 1 << 28 {
+            return None;
+        }
+    }
+    let v = x as f32;
+    Some((if negative { -v } else { v }, i))
+}
+
+/// Parses a decimal number (`-1`, `.5`, `2.`, `1e-3`, `+4.0E2`) as the
+/// nearest `f32`: [`fast_decimal`] where it can, the standard library's
+/// correctly rounded parser otherwise. `inf`, `nan` and numbers beyond the
+/// `f32` range are refused.
+pub(crate) fn parse_f32(b: &[u8]) -> Result<f32, NumberError> {
+    if let Some((v, n)) = fast_decimal(b) {
+        if n == b.len() {
+            return Ok(v);
+        }
+    }
+    if !is_decimal(b) {
+        return Err(NumberError::NotANumber);
+    }
+    // ASCII, by `is_decimal`.
+    let text = std::str::from_utf8(b).map_err(|_| NumberError::NotANumber)?;
+    let v: f32 = text.parse().map_err(|_| NumberError::NotANumber)?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(NumberError::OutOfRange)
+    }
+}
+
+/// Whether `b` is `[+-]? digits [. digits] ([eE] [+-]? digits)?` with a
+/// digit before or after the point: the numbers pbrt-v4 reads (and no
+/// `inf` or `nan`, which `str::parse` would take).
+fn is_decimal(b: &[u8]) -> bool {
+    let mut i = usize::from(matches!(b.first(), Some(b'-' | b'+')));
+    let mut digits = 0;
+    while i < b.len() && b[i].is_ascii_digit() {
+        digits += 1;
         i += 1;
     }
     if i < b.len() && b[i] == b'.' {
         i += 1;
         while i < b.len() && b[i].is_ascii_digit() {
-            if mantissa < (1 << 40) {
-                mantissa = mantissa * 10 + u64::from(b[i] - b'0');
-                exponent -= 1;
-            }
-            any = true;
+            digits += 1;
             i += 1;
         }
     }
-    if !any {
-        return Err(NumberError::NotANumber);
+    if digits == 0 {
+        return false;
     }
-    if i < b.len() && (b[i] == b'e' || b[i] == b'E') {
+    if i < b.len() && (b[i] | 0x20) == b'e' {
         i += 1;
-        let mut eneg = false;
-        if i < b.len() && (b[i] == b'-' || b[i] == b'+') {
-            eneg = b[i] == b'-';
+        if matches!(b.get(i), Some(b'-' | b'+')) {
             i += 1;
         }
-        let mut e: i32 = 0;
-        let mut edigits = false;
+        let from = i;
         while i < b.len() && b[i].is_ascii_digit() {
-            e = e.saturating_mul(10).saturating_add(i32::from(b[i] - b'0'));
-            edigits = true;
             i += 1;
         }
-        if !edigits {
-            return Err(NumberError::NotANumber);
+        if i == from {
+            return false;
         }
-        exponent = exponent.saturating_add(if eneg { -e } else { e });
     }
-    if i != b.len() {
-        return Err(NumberError::NotANumber);
+    i == b.len()
+}
+
+/// Reads a decimal integer at the start of `b` that fits an `i32`: the
+/// value and the bytes read.
+#[inline]
+fn fast_int(b: &[u8]) -> Option<(i32, usize)> {
+    let negative = b.first() == Some(&b'-');
+    let mut i = usize::from(matches!(b.first(), Some(b'-' | b'+')));
+    let from = i;
+    let mut v: i64 = 0;
+    while i < b.len() && b[i].is_ascii_digit() && i - from < 11 {
+        v = v * 10 + i64::from(b[i] - b'0');
+        i += 1;
     }
-    let value = if mantissa <= (1 << 24) && (-10..=10).contains(&exponent) {
-        let m = mantissa as f32;
-        if exponent >= 0 {
-            m * POW10_F32[exponent as usize]
-        } else {
-            m / POW10_F32[(-exponent) as usize]
-        }
-    } else {
-        // The grammar above admits only what `str::parse` reads the same.
-        let text = std::str::from_utf8(b).map_err(|_| NumberError::NotANumber)?;
-        let v: f32 = text.parse().map_err(|_| NumberError::NotANumber)?;
-        if !v.is_finite() {
-            return Err(NumberError::OutOfRange);
-        }
-        return Ok(v);
-    };
-    Ok(if negative { -value } else { value })
+    if i == from {
+        return None;
+    }
+    let v = i32::try_from(if negative { -v } else { v }).ok()?;
+    Some((v, i))
 }
 
 /// Parses a decimal integer (`-12`, `+3`) that fits an `i32`.
 pub(crate) fn parse_i32(b: &[u8]) -> Result<i32, NumberError> {
-    let (negative, digits) = match b.first() {
-        Some(b'-') => (true, &b[1..]),
-        Some(b'+') => (false, &b[1..]),
-        _ => (false, b),
-    };
-    if digits.is_empty() || !digits.iter().all(u8::is_ascii_digit) {
-        return Err(match parse_f32(b) {
-            Ok(_) => NumberError::NotAnInteger,
-            Err(NumberError::OutOfRange) => NumberError::NotAnInteger,
-            Err(e) => e,
-        });
-    }
-    let mut v: i64 = 0;
-    for &d in digits {
-        v = v * 10 + i64::from(d - b'0');
-        if v > i64::from(i32::MAX) + 1 {
-            return Err(NumberError::OutOfRange);
+    if let Some((v, n)) = fast_int(b) {
+        if n == b.len() {
+            return Ok(v);
         }
     }
-    let v = if negative { -v } else { v };
-    i32::try_from(v).map_err(|_| NumberError::OutOfRange)
+    let digits = match b.first() {
+        Some(b'-' | b'+') => &b[1..],
+        _ => b,
+    };
+    if !digits.is_empty() && digits.iter().all(u8::is_ascii_digit) {
+        Err(NumberError::OutOfRange)
+    } else if is_decimal(b) {
+        Err(NumberError::NotAnInteger)
+    } else {
+        Err(NumberError::NotANumber)
+    }
+}
+
+/// A number at the start of a byte slice: [`fast_decimal`] or [`fast_int`].
+type FastNumber<T> = fn(&[u8]) -> Option<(T, usize)>;
+
+impl Lexer<'_> {
+    /// Reads the numbers that follow, as long as each is one the fast path
+    /// of `fast` reads, into `out`; stops before anything else (another
+    /// token, a comment, a number for the slow path), which [`Lexer::next`]
+    /// reads. The hot loop of large meshes: no token is made per number.
+    fn fast_numbers<T>(&mut self, out: &mut Vec<T>, fast: FastNumber<T>) -> Result<(), PbrtError> {
+        /// Bytes of look-ahead the loop wants: a number longer than this
+        /// goes to the slow path.
+        const AHEAD: usize = 64;
+        if self.peeked.is_some() {
+            return Ok(());
+        }
+        loop {
+            if self.end - self.pos <= AHEAD && !self.eof {
+                self.keep = self.abs(self.pos);
+                self.fill()?;
+            }
+            let limit = if self.eof { self.end } else { self.end.saturating_sub(AHEAD) };
+            let buf = &self.buf[..self.end];
+            let mut pos = self.pos;
+            let mut count = 0u64;
+            while pos < limit {
+                match buf[pos] {
+                    b' ' | b'\t' | b'\r' => pos += 1,
+                    b'\n' => {
+                        pos += 1;
+                        self.line = self.line.saturating_add(1);
+                        self.line_start = self.base + pos as u64;
+                        self.line_extra = 0;
+                    }
+                    _ => match fast(&buf[pos..]) {
+                        Some((v, n)) if pos + n == buf.len() || CLASS[buf[pos + n] as usize] == DELIMITER => {
+                            out.push(v);
+                            pos += n;
+                            count += 1;
+                        }
+                        _ => {
+                            self.pos = pos;
+                            self.stats.tokens += count;
+                            return Ok(());
+                        }
+                    },
+                }
+            }
+            self.pos = pos;
+            self.stats.tokens += count;
+            if self.eof {
+                return Ok(());
+            }
+        }
+    }
+
+    /// [`Lexer::fast_numbers`] for `f32`s.
+    pub fn fast_floats(&mut self, out: &mut Vec<f32>) -> Result<(), PbrtError> {
+        self.fast_numbers(out, fast_decimal)
+    }
+
+    /// [`Lexer::fast_numbers`] for `i32`s.
+    pub fn fast_ints(&mut self, out: &mut Vec<i32>) -> Result<(), PbrtError> {
+        self.fast_numbers(out, fast_int)
+    }
 }
 
 #[cfg(test)]
@@ -890,6 +1032,10 @@ mod tests {
         assert!(e.message.starts_with("unterminated string"), "{e}");
         let l = e.loc.unwrap();
         assert_eq!((l.line, l.column), (1, 7));
+        // A backslash at the very end.
+        let mut lx = lexer("\"abc\\");
+        let e = lx.next().unwrap_err();
+        assert!(e.message.contains("before the end of the file"), "{e}");
         let mut lx = lexer("Shape \x01x");
         lx.next().unwrap();
         let e = lx.next().unwrap_err();

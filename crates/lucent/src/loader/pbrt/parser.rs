@@ -814,35 +814,68 @@ fn values(lx: &mut Lexer<'_>, ty: ParamType, decl: &str) -> Result<ParamValues, 
         _ => {}
     }
     let values = match ty {
-        ParamType::Integer => ParamValues::Ints(list(lx, first, decl, |lx, t| match t.kind {
-            TokenKind::Word => parse_i32(lx.bytes(t)).map_err(|e| number_error(lx, t, e, ty, decl)),
-            _ => Err(wrong_value(lx, t, ty, decl)),
-        })?),
-        ParamType::Bool => ParamValues::Bools(list(lx, first, decl, |lx, t| {
-            if lx.is(t, "true") {
-                Ok(true)
-            } else if lx.is(t, "false") {
-                Ok(false)
-            } else {
-                Err(wrong_value(lx, t, ty, decl))
-            }
-        })?),
-        ParamType::String | ParamType::Texture => ParamValues::Strings(list(lx, first, decl, |lx, t| match t.kind {
-            TokenKind::Str => lx.string(t),
-            _ => Err(wrong_value(lx, t, ty, decl)),
-        })?),
-        ParamType::Spectrum if first_value_is_string(lx, &first)? => {
-            ParamValues::Strings(list(lx, first, decl, |lx, t| match t.kind {
+        ParamType::Integer => ParamValues::Ints(list(
+            lx,
+            first,
+            decl,
+            |lx, t| match t.kind {
+                TokenKind::Word => parse_i32(lx.bytes(t)).map_err(|e| number_error(lx, t, e, ty, decl)),
+                _ => Err(wrong_value(lx, t, ty, decl)),
+            },
+            |lx, out| lx.fast_ints(out),
+        )?),
+        ParamType::Bool => ParamValues::Bools(list(
+            lx,
+            first,
+            decl,
+            |lx, t| {
+                if lx.is(t, "true") {
+                    Ok(true)
+                } else if lx.is(t, "false") {
+                    Ok(false)
+                } else {
+                    Err(wrong_value(lx, t, ty, decl))
+                }
+            },
+            no_fast,
+        )?),
+        ParamType::String | ParamType::Texture => ParamValues::Strings(list(
+            lx,
+            first,
+            decl,
+            |lx, t| match t.kind {
                 TokenKind::Str => lx.string(t),
                 _ => Err(wrong_value(lx, t, ty, decl)),
-            })?)
-        }
-        _ => ParamValues::Floats(list(lx, first, decl, |lx, t| match t.kind {
-            TokenKind::Word => parse_f32(lx.bytes(t)).map_err(|e| number_error(lx, t, e, ty, decl)),
-            _ => Err(wrong_value(lx, t, ty, decl)),
-        })?),
+            },
+            no_fast,
+        )?),
+        ParamType::Spectrum if first_value_is_string(lx, &first)? => ParamValues::Strings(list(
+            lx,
+            first,
+            decl,
+            |lx, t| match t.kind {
+                TokenKind::Str => lx.string(t),
+                _ => Err(wrong_value(lx, t, ty, decl)),
+            },
+            no_fast,
+        )?),
+        _ => ParamValues::Floats(list(
+            lx,
+            first,
+            decl,
+            |lx, t| match t.kind {
+                TokenKind::Word => parse_f32(lx.bytes(t)).map_err(|e| number_error(lx, t, e, ty, decl)),
+                _ => Err(wrong_value(lx, t, ty, decl)),
+            },
+            |lx, out| lx.fast_floats(out),
+        )?),
     };
     Ok(values)
+}
+
+/// No fast path: every value is a token.
+fn no_fast<T>(_: &mut Lexer<'_>, _: &mut Vec<T>) -> Result<(), PbrtError> {
+    Ok(())
 }
 
 /// An example value of a type, for messages.
@@ -876,12 +909,14 @@ fn list<T>(
     first: Token,
     decl: &str,
     mut value: impl FnMut(&mut Lexer<'_>, &Token) -> Result<T, PbrtError>,
+    mut fast: impl FnMut(&mut Lexer<'_>, &mut Vec<T>) -> Result<(), PbrtError>,
 ) -> Result<Vec<T>, PbrtError> {
     if first.kind != TokenKind::Open {
         return Ok(vec![value(lx, &first)?]);
     }
     let mut out = Vec::new();
     loop {
+        fast(lx, &mut out)?;
         let t = lx.next()?;
         match t.kind {
             TokenKind::Word | TokenKind::Str => out.push(value(lx, &t)?),
