@@ -50,7 +50,14 @@ fn prints_hand_computed_figures() {
     let mse = 0.29 / 12.0;
     let rel = (0.25 / 1.01 + 0.8) / 12.0;
     let expected = format!("MSE {mse:.4e}  relMSE {rel:.4e}  max |a−b| {:.4e} at (1, 0) channel g", 0.5);
-    assert_eq!(stdout.trim_end(), expected);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines[0], expected);
+    // Channel means: a (0.375, 0.75, 0.375), the reference (0.375, 0.625, 0.425).
+    assert_eq!(
+        lines[1],
+        "mean r g b 0.37500 0.75000 0.37500  reference 0.37500 0.62500 0.42500  ratio 1.0000 1.2000 0.8824"
+    );
+    assert_eq!(lines.len(), 2, "{stdout}");
 }
 
 #[test]

@@ -823,12 +823,12 @@ fn param_list_accessors_check_types_and_counts() {
     assert!(e.message.contains("`oops` is declared `integer` here but must be `float`"), "{e}");
     assert!(params.point3s("dir").is_err(), "a vector3 is not a point3");
     assert!(params.point3("P").unwrap_err().message.contains("needs exactly 3 numbers"));
-    assert_eq!(params.get("P").unwrap().describe(), "point3 P");
-    assert_eq!(params.get("p").unwrap().describe(), "point3 p");
+    assert_eq!(params.get("P").unwrap().describe(), "\"point3 P\"");
+    assert_eq!(params.get("p").unwrap().describe(), "\"point3 p\"");
 
     // What nobody asked for (or asked for with the wrong type).
     let unused: Vec<String> = params.unused().map(|p| p.describe()).collect();
-    assert_eq!(unused, ["float unused", "integer oops"]);
+    assert_eq!(unused, ["\"float unused\"", "\"integer oops\""]);
 }
 
 #[test]
