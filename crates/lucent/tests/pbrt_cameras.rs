@@ -20,9 +20,7 @@ fn centroid(camera: Camera, centre: Vec3, r: f32) -> (f32, f32) {
     let white = b.add_material(Material::matte(Color::ONE, 1.0).unwrap()).unwrap();
     b.add_shape(Sphere::new(centre, r).unwrap(), Transform::IDENTITY, white).unwrap();
     b.set_ambient(Color::ONE).unwrap();
-    let mut s = RenderSettings::default();
-    s.spp = 64;
-    s.filter = Filter::Box { radius: 0.5 };
+    let s = RenderSettings { spp: 64, filter: Filter::Box { radius: 0.5 }, ..Default::default() };
     let film = render(&b.build().unwrap(), &s, RenderOptions::default()).unwrap().film;
     let (mut sum, mut sx, mut sy) = (0.0f64, 0.0f64, 0.0f64);
     for y in 0..H {

@@ -71,7 +71,7 @@ pub fn validate_film_response(scale: Color, max_component: Option<f32>) -> Resul
         return Err(SensorError::Scale(scale));
     }
     match max_component {
-        Some(m) if !(m > 0.0) => Err(SensorError::MaxComponent(m)),
+        Some(m) if m.is_nan() || m <= 0.0 => Err(SensorError::MaxComponent(m)),
         _ => Ok(()),
     }
 }

@@ -8,13 +8,16 @@ use std::sync::{Arc, Mutex};
 use super::image::{read_image, ColorEncoding, ImageError};
 use super::mipmap::MipMap;
 
+/// The cache's table: a MIP map per (canonical path, encoding key).
+type MipMaps = HashMap<(PathBuf, (u8, u32)), Arc<MipMap>>;
+
 /// Image files loaded so far, keyed by canonical path and colour encoding.
 /// Safe to share between threads: loads happen outside the lock, and when
 /// two threads load the same file at once the first to finish wins and both
 /// get its map.
 #[derive(Debug, Default)]
 pub struct ImageCache {
-    maps: Mutex<HashMap<(PathBuf, (u8, u32)), Arc<MipMap>>>,
+    maps: Mutex<MipMaps>,
 }
 
 impl ImageCache {
@@ -47,7 +50,7 @@ impl ImageCache {
         self.len() == 0
     }
 
-    fn lock(&self) -> std::sync::MutexGuard<'_, HashMap<(PathBuf, (u8, u32)), Arc<MipMap>>> {
+    fn lock(&self) -> std::sync::MutexGuard<'_, MipMaps> {
         // A panic elsewhere while holding the lock leaves the map valid.
         self.maps.lock().unwrap_or_else(|e| e.into_inner())
     }

@@ -392,7 +392,7 @@ pub fn read_pfm(path: &Path, bytes: &[u8]) -> Result<TextureImage, ImageError> {
             data.push(if factor != 1.0 { v * factor } else { v });
         }
     }
-    TextureImage::new(width, height, channels, data).map_err(|m| err(m))
+    TextureImage::new(width, height, channels, data).map_err(err)
 }
 
 #[cfg(test)]

@@ -59,7 +59,7 @@ impl Importer<'_> {
                 let mut i = self.light_color(params, "I", Color::ONE, loc)?;
                 let from = params.point3("from")?.unwrap_or(Vec3::ZERO);
                 if let Some(power) = self.photometric(params, "power", loc)? {
-                    i = i * (power / (4.0 * PI));
+                    i *= power / (4.0 * PI);
                 }
                 let light = Light::point(t.point(from), i, 1.0, Falloff::InverseSquare).map_err(light_err)?;
                 self.builder.add_light(light);
@@ -73,7 +73,7 @@ impl Importer<'_> {
                 if let Some(power) = self.photometric(params, "power", loc)? {
                     let cos_end = angle.to_radians().cos();
                     let cos_start = (angle - delta).to_radians().cos();
-                    i = i * (power / (2.0 * PI * (1.0 - 0.5 * (cos_start + cos_end))));
+                    i *= power / (2.0 * PI * (1.0 - 0.5 * (cos_start + cos_end)));
                 }
                 let dir = t.vector(to - from);
                 let light = Light::spot(t.point(from), dir, i, 1.0, angle, delta.min(angle), Falloff::InverseSquare)
@@ -85,7 +85,7 @@ impl Importer<'_> {
                 let from = params.point3("from")?.unwrap_or(Vec3::ZERO);
                 let to = params.point3("to")?.unwrap_or(Vec3::Z);
                 if let Some(e) = self.photometric(params, "illuminance", loc)? {
-                    l = l * e;
+                    l *= e;
                 }
                 // Light travels from `from` towards `to`.
                 let light = Light::directional(t.vector(to - from), l, 1.0).map_err(light_err)?;
@@ -139,7 +139,7 @@ impl Importer<'_> {
         let path = match &self.options.environment {
             Some(over) => over.clone(),
             None => {
-                let path = self.resolve(&name, &at);
+                let path = self.resolve(name, &at);
                 if !path.exists() {
                     return Err(PbrtError::at(
                         &at,
@@ -158,8 +158,14 @@ impl Importer<'_> {
         // image is read as latitude–longitude (what most users have).
         let (w, h) = image::image_dimensions(&path)
             .map_err(|e| PbrtError::at(&at, format!("cannot read the environment map {}: {e}", path.display())))?;
-        let mapping = if w == h { EnvironmentMapping::EqualArea } else { EnvironmentMapping::Equirectangular };
-        let options = MapOptions { mapping, light_to_world: world_from_light, scale, illuminance };
+        // pbrt's light space is z-up; a lat-long image is y-up in its own
+        // frame, so it is first turned (y → z) to keep the scene's zenith.
+        let (mapping, light_to_world) = if w == h {
+            (EnvironmentMapping::EqualArea, world_from_light)
+        } else {
+            (EnvironmentMapping::Equirectangular, crate::geometry::Transform::rotate_x(90.0).then(&world_from_light))
+        };
+        let options = MapOptions { mapping, light_to_world, scale, illuminance };
         let env = Environment::from_file_with(&path, &options)
             .map_err(|e| PbrtError::at(&at, format!("LightSource \"infinite\": {e}")))?;
         self.files.push(path);

@@ -138,7 +138,7 @@ impl Importer<'_> {
         }
         if let Some(name) = params.string("normalmap")? {
             let at = param_loc(params, "normalmap", loc);
-            let path = self.resolve(&name, &at);
+            let path = self.resolve(name, &at);
             let texture = self.normal_map_texture(&path, &at)?;
             material = material.with_normal_map(texture);
         }

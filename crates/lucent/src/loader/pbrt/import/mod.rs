@@ -351,7 +351,7 @@ impl<'a> Importer<'a> {
                 let ty = params.string("type")?.ok_or_else(|| {
                     PbrtError::at(loc, format!("MakeNamedMaterial \"{name}\" needs a \"string type\" parameter"))
                 })?;
-                let id = self.material(&ty, &params, loc)?;
+                let id = self.material(ty, &params, loc)?;
                 if self.materials.named.insert(name.clone(), id).is_some() {
                     self.warnings.warn(loc, format!("named material \"{name}\" redefined"))?;
                 }

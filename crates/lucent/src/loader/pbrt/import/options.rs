@@ -73,7 +73,7 @@ impl RenderOptions {
             settings.film_scale = crate::film::pbrt_film_scale(exposure, iso, white_balance)
                 .map_err(|e| PbrtError::at(at, format!("Film: {e}")))?;
             if let Some(m) = params.float("maxcomponentvalue")? {
-                if !(m > 0.0) {
+                if m.is_nan() || m <= 0.0 {
                     return Err(PbrtError::at(
                         at,
                         format!("Film: \"float maxcomponentvalue\" must be positive, got {m}"),

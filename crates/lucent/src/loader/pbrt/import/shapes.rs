@@ -55,7 +55,7 @@ impl Importer<'_> {
                 let name = params
                     .string("filename")?
                     .ok_or_else(|| PbrtError::at(loc, "Shape \"plymesh\" needs a \"string filename\""))?;
-                let path = self.resolve(&name, &super::spectra::param_loc(params, "filename", loc));
+                let path = self.resolve(name, &super::spectra::param_loc(params, "filename", loc));
                 if params.get("displacement").is_some() || params.get("edgelength").is_some() {
                     self.warnings
                         .warn(loc, "plymesh displacement is not supported: the mesh is rendered undisplaced")?;

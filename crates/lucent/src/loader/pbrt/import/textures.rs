@@ -50,18 +50,18 @@ impl Importer<'_> {
             .string("filename")?
             .ok_or_else(|| PbrtError::at(loc, "Texture \"imagemap\" needs a \"string filename\""))?;
         let at = param_loc(params, "filename", loc);
-        let path = self.resolve(&name, &at);
+        let path = self.resolve(name, &at);
         let encoding = match params.string("encoding")? {
-            Some(e) => ColorEncoding::parse(&e).map_err(|e| PbrtError::at(&param_loc(params, "encoding", loc), e))?,
+            Some(e) => ColorEncoding::parse(e).map_err(|e| PbrtError::at(&param_loc(params, "encoding", loc), e))?,
             None => ColorEncoding::pbrt_default_for(&path),
         };
         let mut options = ImageTextureParams::default();
         if let Some(f) = params.string("filter")? {
             options.filter =
-                FilterFunction::parse(&f).map_err(|e| PbrtError::at(&param_loc(params, "filter", loc), e))?;
+                FilterFunction::parse(f).map_err(|e| PbrtError::at(&param_loc(params, "filter", loc), e))?;
         }
         if let Some(w) = params.string("wrap")? {
-            options.wrap = WrapMode::parse(&w).map_err(|e| PbrtError::at(&param_loc(params, "wrap", loc), e))?;
+            options.wrap = WrapMode::parse(w).map_err(|e| PbrtError::at(&param_loc(params, "wrap", loc), e))?;
         }
         options.scale = params.float("scale")?.unwrap_or(1.0);
         options.invert = params.bool("invert")?.unwrap_or(false);
