@@ -51,7 +51,8 @@ impl Visitor<'_> for CountVisitor {
 macro_rules! checked_f32 {
     ($(#[$doc:meta])* $name:ident, $ok:expr, $what:literal) => {
         $(#[$doc])*
-        #[derive(Clone, Copy, Debug, PartialEq)]
+        #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+        #[serde(transparent)]
         pub struct $name(pub(super) f32);
 
         impl $name {
@@ -106,7 +107,8 @@ checked_f32!(
 );
 
 /// Three finite numbers: a point or a free vector.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[serde(transparent)]
 pub struct Vec3Desc(pub [f32; 3]);
 
 impl<'de> Deserialize<'de> for Vec3Desc {
@@ -129,7 +131,8 @@ impl From<Vec3Desc> for glam::Vec3 {
 }
 
 /// Three finite numbers, not all zero: a direction or a normal.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[serde(transparent)]
 pub struct Direction(pub [f32; 3]);
 
 impl<'de> Deserialize<'de> for Direction {
@@ -151,7 +154,8 @@ impl From<Direction> for glam::Vec3 {
 
 /// A linear RGB colour: three finite numbers ≥ 0 (values above 1 are
 /// allowed: they are radiance, not display values).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[serde(transparent)]
 pub struct Rgb(pub [f32; 3]);
 
 impl<'de> Deserialize<'de> for Rgb {
@@ -172,7 +176,8 @@ impl From<Rgb> for glam::Vec3 {
 }
 
 /// An image dimension: 1 to 65,536 pixels.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(transparent)]
 pub struct ImageDimension(pub u32);
 
 impl<'de> Deserialize<'de> for ImageDimension {
@@ -190,7 +195,8 @@ impl<'de> Deserialize<'de> for ImageDimension {
 }
 
 /// Samples per pixel: at least 1, at most 1,048,576.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(transparent)]
 pub struct SampleCount(pub u32);
 
 /// Largest samples-per-pixel count accepted.
@@ -208,7 +214,8 @@ impl<'de> Deserialize<'de> for SampleCount {
 }
 
 /// Most mirror bounces: 0 to 10,000.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(transparent)]
 pub struct MaxDepth(pub u32);
 
 /// Largest `max_depth` accepted. Deeper chains add nothing visible: each

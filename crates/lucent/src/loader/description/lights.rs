@@ -2,10 +2,10 @@
 
 use super::super::values::*;
 use super::{one, white};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Distance falloff of point and spot lights.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FalloffDesc {
     /// Constant.
@@ -15,7 +15,7 @@ pub enum FalloffDesc {
 }
 
 /// A `[[point_light]]`.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PointLightDesc {
     /// Position.
@@ -27,12 +27,12 @@ pub struct PointLightDesc {
     #[serde(default = "one")]
     pub intensity: NonNegative,
     /// Falloff (default `none`).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub falloff: Option<FalloffDesc>,
 }
 
 /// A `[[spot_light]]`.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpotLightDesc {
     /// Position.
@@ -50,10 +50,10 @@ pub struct SpotLightDesc {
     pub angle: Positive,
     /// Width of the smooth edge, degrees (default: 5, or `angle` if that is
     /// smaller; at most `angle`).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cone_delta: Option<NonNegative>,
     /// Falloff (default `inverse_square`).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub falloff: Option<FalloffDesc>,
 }
 
@@ -62,7 +62,7 @@ fn thirty() -> Positive {
 }
 
 /// A `[[directional_light]]`.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DirectionalLightDesc {
     /// The direction the light travels.

@@ -4,12 +4,12 @@ use super::super::values::*;
 use super::{one, positive_one};
 use serde::{
     de::{Error as _, Visitor},
-    Deserialize, Deserializer,
+    Deserialize, Deserializer, Serialize,
 };
 use std::fmt;
 
 /// A checkerboard colour.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CheckerDesc {
     /// Colour of the square at the origin.
@@ -22,7 +22,8 @@ pub struct CheckerDesc {
 }
 
 /// A material: `[materials.NAME.matte]` or `[materials.NAME.phong]`.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum MaterialDesc {
     /// Lambertian.
     Matte(MatteDesc),
@@ -39,19 +40,19 @@ pub enum MaterialDesc {
 }
 
 /// Keys of a diffuse material.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DiffuseDesc {
     /// Albedo, each channel ≤ 1 (default white), or give `checker`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub color: Option<Rgb>,
     /// A checkerboard albedo.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub checker: Option<CheckerDesc>,
 }
 
 /// Named conductors with measured complex indices of refraction.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MetalDesc {
     /// Gold.
@@ -65,56 +66,56 @@ pub enum MetalDesc {
 }
 
 /// Keys of a conductor: give `color`, or `eta` and `k`, or `metal`.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ConductorDesc {
     /// Reflectance at normal incidence (Schlick's approximation).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub color: Option<Rgb>,
     /// Real part of the complex index of refraction, per channel.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub eta: Option<Rgb>,
     /// Imaginary part (absorption), per channel.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub k: Option<Rgb>,
     /// A named metal.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub metal: Option<MetalDesc>,
     /// GGX roughness α from 0 (mirror) to 1 (default 0).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub roughness: Option<NonNegative>,
 }
 
 /// Keys of a dielectric.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DielectricDesc {
     /// Index of refraction (default 1.5).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub eta: Option<Positive>,
     /// GGX roughness α from 0 (smooth) to 1 (default 0).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub roughness: Option<NonNegative>,
     /// Colour of transmitted light (default white).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tint: Option<Rgb>,
 }
 
 /// Keys of a plastic.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlasticDesc {
     /// Albedo of the diffuse base (default white), or give `checker`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub color: Option<Rgb>,
     /// A checkerboard albedo.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub checker: Option<CheckerDesc>,
     /// Index of refraction of the coat (default 1.5).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub eta: Option<Positive>,
     /// GGX roughness α of the coat from 0 (smooth) to 1 (default 0).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub roughness: Option<NonNegative>,
 }
 
@@ -158,38 +159,38 @@ impl<'de> Deserialize<'de> for MaterialDesc {
 }
 
 /// Keys of a matte material.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MatteDesc {
     /// Colour (default white); or use `checker`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub color: Option<Rgb>,
     /// A checkerboard instead of a plain colour.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub checker: Option<CheckerDesc>,
     /// Diffuse coefficient (default 1).
     #[serde(default = "one")]
     pub kd: NonNegative,
     /// Ambient coefficient (default: kd).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ka: Option<NonNegative>,
 }
 
 /// Keys of a Phong material.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PhongDesc {
     /// Colour (default white); or use `checker`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub color: Option<Rgb>,
     /// A checkerboard instead of a plain colour.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub checker: Option<CheckerDesc>,
     /// Diffuse coefficient (default 1).
     #[serde(default = "one")]
     pub kd: NonNegative,
     /// Ambient coefficient (default: kd).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ka: Option<NonNegative>,
     /// Specular coefficient (default 0.5).
     #[serde(default = "half")]
@@ -198,7 +199,7 @@ pub struct PhongDesc {
     #[serde(default = "twenty")]
     pub exponent: NonNegative,
     /// Mirror reflectivity (default 0).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kr: Option<NonNegative>,
 }
 

@@ -13,11 +13,11 @@ pub use objects::*;
 pub use settings::*;
 
 use super::values::*;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// A whole scene file.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneDescription {
     /// The camera.
@@ -26,49 +26,49 @@ pub struct SceneDescription {
     #[serde(default)]
     pub render: RenderDesc,
     /// Environment light (path integrator).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub environment: Option<EnvironmentDesc>,
     /// Ambient light.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ambient: Option<AmbientDesc>,
     /// Named materials.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub materials: BTreeMap<String, MaterialDesc>,
     /// Point lights.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub point_light: Vec<PointLightDesc>,
     /// Spot lights.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub spot_light: Vec<SpotLightDesc>,
     /// Directional lights.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub directional_light: Vec<DirectionalLightDesc>,
     /// Spheres.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub sphere: Vec<SphereDesc>,
     /// Planes.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub plane: Vec<PlaneDesc>,
     /// Triangles.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub triangle: Vec<TriangleDesc>,
     /// Quadrilaterals.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub quad: Vec<QuadDesc>,
     /// Groups of objects with a shared transform.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub group: Vec<GroupDesc>,
     /// Named mesh files, loaded once and placed by `[[mesh]] mesh = "NAME"`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub meshes: BTreeMap<String, MeshFileDesc>,
     /// Placed meshes.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub mesh: Vec<MeshDesc>,
     /// Named groups defined once and placed by `[[instance]]`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub prototypes: BTreeMap<String, GroupDesc>,
     /// Placements of prototypes.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub instance: Vec<InstanceDesc>,
 }
 

@@ -3,7 +3,7 @@
 
 use super::super::values::*;
 use super::{default_up, positive_one};
-use serde::{de::Error as _, Deserialize, Deserializer};
+use serde::{de::Error as _, Deserialize, Deserializer, Serialize};
 
 /// Defines the struct of an object table: the given fields plus those every
 /// object has (`name` and `transform`), written once
@@ -12,15 +12,15 @@ use serde::{de::Error as _, Deserialize, Deserializer};
 macro_rules! object {
     ($(#[$doc:meta])* pub struct $name:ident { $($(#[$fdoc:meta])* pub $field:ident: $ty:ty,)* }) => {
         $(#[$doc])*
-        #[derive(Clone, Debug, Deserialize)]
+        #[derive(Clone, Debug, Deserialize, Serialize)]
         #[serde(deny_unknown_fields)]
         pub struct $name {
             /// Optional name for messages.
-            #[serde(default)]
+            #[serde(default, skip_serializing_if = "Option::is_none")]
             pub name: Option<String>,
             $($(#[$fdoc])* pub $field: $ty,)*
             /// Object transform.
-            #[serde(default)]
+            #[serde(default, skip_serializing_if = "Vec::is_empty")]
             pub transform: Vec<TransformOp>,
         }
     };
@@ -35,11 +35,11 @@ macro_rules! emissive_object {
             pub struct $name {
                 $($(#[$fdoc])* pub $field: $ty,)*
                 /// Emitted radiance: the surface becomes an area light.
-                #[serde(default)]
+                #[serde(default, skip_serializing_if = "Option::is_none")]
                 pub emission: Option<Rgb>,
                 /// Whether an emitting surface emits from both sides
                 /// (default: front only).
-                #[serde(default)]
+                #[serde(default, skip_serializing_if = "std::ops::Not::not")]
                 pub two_sided: bool,
             }
         }
@@ -47,7 +47,7 @@ macro_rules! emissive_object {
 }
 
 /// One step of a transform list; the list is applied in the order written.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum TransformOp {
     /// Move by `[x, y, z]`.
@@ -105,7 +105,7 @@ fn triangle_corners<'de, D: Deserializer<'de>>(d: D) -> Result<[Vec3Desc; 3], D:
 }
 
 /// Axis and angle of a general rotation.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct AxisAngle {
     /// Rotation axis.
@@ -124,7 +124,7 @@ emissive_object! {
         #[serde(default = "positive_one")]
         pub radius: Positive,
         /// Material name (default: the enclosing group's).
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         pub material: Option<String>,
     }
 }
@@ -143,7 +143,7 @@ object! {
         #[serde(default = "default_up")]
         pub normal: Direction,
         /// Material name.
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         pub material: Option<String>,
     }
 }
@@ -155,10 +155,10 @@ emissive_object! {
         #[serde(deserialize_with = "triangle_corners")]
         pub vertices: [Vec3Desc; 3],
         /// Per-corner normals for smooth shading.
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         pub normals: Option<[Direction; 3]>,
         /// Material name.
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         pub material: Option<String>,
     }
 }
@@ -171,49 +171,49 @@ emissive_object! {
         /// from the front.
         pub vertices: [Vec3Desc; 4],
         /// Material name.
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         pub material: Option<String>,
     }
 }
 
 /// A `[[group]]`: objects (and groups) sharing a transform.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct GroupDesc {
     /// Optional name for messages.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
     /// Applied to every member, after the member's own transform.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub transform: Vec<TransformOp>,
     /// Default material of members that name none.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
     /// Member spheres.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub sphere: Vec<SphereDesc>,
     /// Member planes.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub plane: Vec<PlaneDesc>,
     /// Member triangles.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub triangle: Vec<TriangleDesc>,
     /// Member quads.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub quad: Vec<QuadDesc>,
     /// Nested groups.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub group: Vec<GroupDesc>,
     /// Member meshes.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub mesh: Vec<MeshDesc>,
     /// Member placements of prototypes.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub instance: Vec<InstanceDesc>,
 }
 
 /// How a mesh gets its shading normals.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Serialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum NormalsDesc {
     /// The file's vertex normals if it has them, else flat shading.
@@ -226,7 +226,7 @@ pub enum NormalsDesc {
 }
 
 /// A `[meshes.NAME]` table: a mesh file loaded once.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MeshFileDesc {
     /// Path of a `.ply` or `.obj` file, relative to the scene file.
@@ -240,34 +240,34 @@ emissive_object! {
     /// A `[[mesh]]`: a mesh placed in the scene.
     pub struct MeshDesc {
         /// A mesh defined under `[meshes]`; or give `file`.
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         pub mesh: Option<String>,
         /// A mesh file (relative to the scene file); or give `mesh`.
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         pub file: Option<String>,
         /// Shading normals, with `file` (default `file`).
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         pub normals: Option<NormalsDesc>,
         /// Material of every face; without it, an OBJ's own materials are used,
         /// else the group's material.
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         pub material: Option<String>,
     }
 }
 
 /// An `[[instance]]`: a prototype placed with its own transform.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct InstanceDesc {
     /// Optional name for messages.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
     /// The prototype, a name under `[prototypes]`.
     pub prototype: String,
     /// Replaces the material of every member, when given.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
     /// Applied after the prototype's own transform.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub transform: Vec<TransformOp>,
 }

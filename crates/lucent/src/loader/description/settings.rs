@@ -2,10 +2,10 @@
 
 use super::super::values::*;
 use super::{default_up, one, white};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// The `[camera]` table.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraDesc {
     /// Eye position.
@@ -19,10 +19,10 @@ pub struct CameraDesc {
     #[serde(default = "default_fov")]
     pub fov: FieldOfView,
     /// Lens radius for depth of field (default 0: a pinhole).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lens_radius: Option<NonNegative>,
     /// Distance to the plane of focus (default: eye to look_at).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub focal_distance: Option<Positive>,
 }
 
@@ -31,7 +31,7 @@ fn default_fov() -> FieldOfView {
 }
 
 /// Tone-mapping operators, as named in scene files.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum ToneMapDesc {
     /// Divide by the largest channel when it exceeds 1.
@@ -46,7 +46,7 @@ pub enum ToneMapDesc {
 }
 
 /// The `[render]` table.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RenderDesc {
     /// Image width in pixels (default 640).
@@ -59,7 +59,7 @@ pub struct RenderDesc {
     #[serde(default = "default_spp")]
     pub spp: SampleCount,
     /// Most bounces (default 5 for `whitted`, 64 for `path`).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_depth: Option<MaxDepth>,
     /// Background radiance (default black).
     #[serde(default = "default_background")]
@@ -78,15 +78,15 @@ pub struct RenderDesc {
     pub integrator: IntegratorDesc,
     /// Sample sequence (default `stratified` for `whitted`, `sobol` for
     /// `path`).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sampler: Option<SamplerDesc>,
     /// Pixel reconstruction filter (default: a box over the pixel).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub filter: Option<FilterDesc>,
 }
 
 /// The integrators, as named in scene files.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum IntegratorDesc {
     /// Classic ray tracing.
@@ -97,7 +97,7 @@ pub enum IntegratorDesc {
 }
 
 /// The samplers, as named in scene files.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SamplerDesc {
     /// The classic jittered grid.
@@ -109,7 +109,7 @@ pub enum SamplerDesc {
 }
 
 /// Filter kinds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FilterKindDesc {
     /// Box.
@@ -123,42 +123,42 @@ pub enum FilterKindDesc {
 }
 
 /// `filter = { kind = "...", radius = ... }` in `[render]`.
-#[derive(Clone, Copy, Debug, Deserialize)]
+#[derive(Clone, Copy, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct FilterDesc {
     /// Which filter.
     pub kind: FilterKindDesc,
     /// Radius in pixels (defaults: box 0.5, tent 1, gaussian 1.5, mitchell 2).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radius: Option<Positive>,
     /// Gaussian standard deviation (default 0.5).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sigma: Option<Positive>,
     /// Mitchell B (default 1/3).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub b: Option<Finite>,
     /// Mitchell C (default 1/3).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub c: Option<Finite>,
 }
 
 /// The `[environment]` table: light from infinitely far away, for the path
 /// integrator.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct EnvironmentDesc {
     /// A constant colour (default white, unless `file` is given).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub color: Option<Rgb>,
     /// An equirectangular (latitude–longitude) `.hdr` or `.exr` image,
     /// relative to the scene file.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub file: Option<String>,
     /// Multiplier (default 1).
     #[serde(default = "one")]
     pub intensity: NonNegative,
     /// Rotation of the image about +y, in degrees (default 0).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rotation: Option<Finite>,
 }
 
@@ -197,7 +197,7 @@ impl Default for RenderDesc {
 }
 
 /// The `[ambient]` table.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct AmbientDesc {
     /// Colour (default white).
