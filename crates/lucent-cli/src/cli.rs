@@ -25,6 +25,21 @@ pub enum Command {
         #[command(flatten)]
         import: ImportArgs,
     },
+    /// Write a scene (a pbrt-v4 file, or a TOML/JSON one) as a lucent scene
+    /// file, TOML or JSON by the output's extension, with its meshes as
+    /// binary PLY files in OUTPUT_STEM-meshes/ beside it: edit it, and it
+    /// renders the same image.
+    Convert {
+        /// The scene to read (.pbrt, .pbrt.gz, .toml or .json).
+        scene: PathBuf,
+        /// The scene file to write (.toml or .json).
+        #[arg(short, long, value_name = "FILE")]
+        output: PathBuf,
+        #[command(flatten)]
+        overrides: SceneOverrides,
+        #[command(flatten)]
+        import: ImportArgs,
+    },
     /// Measure rendering speed (Mrays/s) with 1 thread and with all threads.
     Bench(BenchArgs),
     /// Benchmark ray traversal on a triangle mesh (the raybench protocol),

@@ -32,6 +32,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => run_render(&args),
         Command::Check { scene, import } => run_check(&scene, &import),
+        Command::Convert { scene, output, overrides, import } => run_convert(&scene, &output, &overrides, &import),
         Command::Bench(args) => bench::run(&args),
         Command::BenchRays(args) => bench_rays::run(&args),
         Command::Diff(args) => diff::run(&args),
@@ -124,6 +125,38 @@ fn run_check(path: &Path, import: &cli::ImportArgs) -> Result<(), String> {
         scene.camera().height(),
         settings.spp
     )?;
+    Ok(())
+}
+
+fn run_convert(
+    path: &Path,
+    output: &Path,
+    overrides: &cli::SceneOverrides,
+    import: &cli::ImportArgs,
+) -> Result<(), String> {
+    if lucent::loader::SceneFormat::from_path(output).is_none() {
+        return Err(format!("{}: the output must be a .toml or .json scene file", output.display()));
+    }
+    let same = |a: &Path, b: &Path| match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if same(path, output) {
+        return Err(format!("{}: the output would overwrite the input; choose another name", output.display()));
+    }
+    let loaded = source::load(Some(path), overrides, import)?.loaded;
+    warn(&loaded.scene, false);
+    let summary = lucent::loader::export_scene(&loaded, output).map_err(|e| e.to_string())?;
+    let meshes = match summary.mesh_files.len() {
+        0 => String::new(),
+        n => format!(
+            ", {n} mesh file{} ({} triangles) in {}",
+            if n == 1 { "" } else { "s" },
+            summary.triangles,
+            summary.mesh_files[0].parent().map_or_else(String::new, |d| d.display().to_string())
+        ),
+    };
+    say!("wrote {}{meshes}", output.display())?;
     Ok(())
 }
 

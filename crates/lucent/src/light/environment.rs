@@ -254,6 +254,11 @@ pub struct EnvironmentMap {
     /// World to the map's frame: the transpose of `to_world`.
     to_local: Mat3,
     distribution: PiecewiseConstant2D,
+    /// The file it was read from (`None` for an image made in memory).
+    source: Option<PathBuf>,
+    /// The factor applied to the file's pixels (`scale`, times the
+    /// illuminance normalisation).
+    factor: f32,
 }
 
 impl std::fmt::Debug for EnvironmentMap {
@@ -266,6 +271,9 @@ impl std::fmt::Debug for EnvironmentMap {
             .finish_non_exhaustive()
     }
 }
+
+/// The name of an image made in memory, in messages.
+const MEMORY: &str = "<memory>";
 
 /// The unit direction (in the environment's own frame) at `(u, v)` of the
 /// equirectangular mapping described in the module docs.
@@ -376,7 +384,7 @@ impl EnvironmentMap {
             return Err(EnvironmentError::Rotation(rotation));
         }
         let q = Mat3::from_rotation_y(rotation.to_radians());
-        Self::build(Path::new("<memory>"), width, height, pixels, EnvironmentMapping::Equirectangular, q, scale, None)
+        Self::build(Path::new(MEMORY), width, height, pixels, EnvironmentMapping::Equirectangular, q, scale, None)
     }
 
     /// A map from `pixels` (linear RGB, row by row from the top), with the
@@ -389,7 +397,7 @@ impl EnvironmentMap {
         pixels: Vec<Color>,
         options: &MapOptions,
     ) -> Result<Self, EnvironmentError> {
-        Self::from_options(Path::new("<memory>"), width, height, pixels, options)
+        Self::from_options(Path::new(MEMORY), width, height, pixels, options)
     }
 
     fn from_options(
@@ -470,7 +478,8 @@ impl EnvironmentMap {
             EnvironmentMapping::EqualArea => texels.pixels().iter().map(|&c| luminance(c)).collect(),
         };
         let distribution = PiecewiseConstant2D::new(&weights, w, h);
-        Ok(Self { texels, mapping, to_world, to_local: to_world.transpose(), distribution })
+        let source = (path != Path::new(MEMORY)).then(|| path.to_owned());
+        Ok(Self { texels, mapping, to_world, to_local: to_world.transpose(), distribution, source, factor })
     }
 
     /// Width in pixels.
@@ -496,6 +505,24 @@ impl EnvironmentMap {
     /// The radiance, scale applied, as a grid.
     pub fn texels(&self) -> &TexelGrid {
         &self.texels
+    }
+
+    /// The file the image was read from, if it was read from one.
+    pub fn source(&self) -> Option<&Path> {
+        self.source.as_deref()
+    }
+
+    /// The factor the file's pixels were multiplied by: `scale`, times the
+    /// illuminance normalisation if one was asked for. Reading the file
+    /// again with this scale, no illuminance and [`EnvironmentMap::light_to_world`]
+    /// gives the same map.
+    pub fn scale(&self) -> f32 {
+        self.factor
+    }
+
+    /// The map's own frame to world (orthogonal).
+    pub fn light_to_world(&self) -> Mat3 {
+        self.to_world
     }
 
     /// The map's zenith ([`EnvironmentMapping::up`]) in world space.

@@ -7,11 +7,10 @@ use super::locate::*;
 use super::objects::{BuildContext, Place};
 use super::values::*;
 use super::{LoadedScene, SceneFile};
-use crate::camera::{Camera, CameraError, ThinLens};
 use crate::color::Color;
 use crate::film::{check_image_size, Filter, ToneMap};
-use crate::geometry::{Transform, Vec3};
-use crate::light::{Environment, Falloff, Light};
+use crate::geometry::Transform;
+use crate::light::{Environment, EnvironmentMapping, Falloff, Light, MapOptions};
 use crate::render::{IntegratorKind, RenderSettings};
 use crate::sampling::SamplerKind;
 use crate::scene::{SceneBuilder, SceneError};
@@ -32,27 +31,7 @@ impl SceneFile {
             self.error(at, e.to_string())
         })?;
 
-        let c = &d.camera;
-        let mut camera = Camera::new(c.eye.into(), c.look_at.into(), c.up.into(), c.fov.get(), w, h).map_err(|e| {
-            let key = match e {
-                CameraError::NoViewDirection => find_key(&self.source, "look_at", 0),
-                CameraError::BadUp => find_key(&self.source, "up", 0).or_else(|| find_key(&self.source, "look_at", 0)),
-                _ => None,
-            };
-            self.error(key.or_else(|| find_header(&self.source, "camera")), format!("[camera]: {e}"))
-        })?;
-        if let Some(radius) = c.lens_radius {
-            let focal_distance =
-                c.focal_distance.map_or_else(|| (Vec3::from(c.look_at) - Vec3::from(c.eye)).length(), |f| f.get());
-            camera = camera
-                .with_lens(ThinLens { radius: radius.get(), focal_distance })
-                .map_err(|e| self.error(find_key(&self.source, "lens_radius", 0), e.to_string()))?;
-        } else if c.focal_distance.is_some() {
-            return Err(self.error(
-                find_key(&self.source, "focal_distance", 0),
-                "focal_distance needs lens_radius (a pinhole camera has everything in focus)",
-            ));
-        }
+        let camera = self.camera(w, h)?;
 
         let mut scene = SceneBuilder::new(camera);
         let settings = self.settings()?;
@@ -123,6 +102,8 @@ impl SceneFile {
             plane: d.plane.clone(),
             triangle: d.triangle.clone(),
             quad: d.quad.clone(),
+            disk: d.disk.clone(),
+            cylinder: d.cylinder.clone(),
             group: d.group.clone(),
             mesh: d.mesh.clone(),
             instance: d.instance.clone(),
@@ -131,7 +112,7 @@ impl SceneFile {
         let place = Place { label: "", at: None, forced_material: None };
         self.add_group(&mut scene, &mut ctx, &root, Transform::IDENTITY, None, place)?;
         let scene = scene.build().map_err(|e| e.in_file(self.path.clone(), &self.source, None, ""))?;
-        let mut files: Vec<PathBuf> = ctx.meshes.into_keys().map(|(path, _)| path).collect();
+        let mut files: Vec<PathBuf> = ctx.meshes.into_keys().map(|(path, _, _)| path).collect();
         if let Some(file) = d.environment.as_ref().and_then(|e| e.file.as_ref()) {
             files.push(self.relative(file));
         }
@@ -185,6 +166,9 @@ impl SceneFile {
                 None => Filter::default(),
                 Some(f) => self.filter(&f)?,
             },
+            regularize: r.regularize,
+            film_scale: r.film_scale.map_or(Color::ONE, Color::from),
+            max_component: r.max_component.map(Positive::get),
             ..RenderSettings::for_integrator(integrator)
         })
     }
@@ -254,11 +238,19 @@ impl SceneFile {
                 b: f.b.map_or(1.0 / 3.0, Finite::get),
                 c: f.c.map_or(1.0 / 3.0, Finite::get),
             },
+            FilterKindDesc::Lanczos => Filter::Lanczos { radius: radius(4.0), tau: f.tau.map_or(3.0, Positive::get) },
         };
         let applies = |key: &str| {
-            matches!((f.kind, key), (FilterKindDesc::Gaussian, "sigma") | (FilterKindDesc::Mitchell, "b" | "c"))
+            matches!(
+                (f.kind, key),
+                (FilterKindDesc::Gaussian, "sigma")
+                    | (FilterKindDesc::Mitchell, "b" | "c")
+                    | (FilterKindDesc::Lanczos, "tau")
+            )
         };
-        for (key, given) in [("sigma", f.sigma.is_some()), ("b", f.b.is_some()), ("c", f.c.is_some())] {
+        let given =
+            [("sigma", f.sigma.is_some()), ("b", f.b.is_some()), ("c", f.c.is_some()), ("tau", f.tau.is_some())];
+        for (key, given) in given {
             if given && !applies(key) {
                 return Err(self.error(
                     find_key(&self.source, key, 0).or_else(|| find_key(&self.source, "filter", 0)),
@@ -275,20 +267,48 @@ impl SceneFile {
     fn environment(&self, env: &EnvironmentDesc) -> Result<Environment, SceneError> {
         let at = || find_header(&self.source, "environment");
         let scale = env.intensity.get();
+        let illuminance = env.illuminance.map(Positive::get);
         match (&env.file, env.color) {
             (Some(_), Some(_)) => Err(self.error(at(), "[environment]: give `color` or `file`, not both")),
             (None, color) => {
-                if env.rotation.is_some() {
-                    return Err(self.error(at(), "[environment]: `rotation` applies to an image (`file`)"));
+                for (key, given) in [
+                    ("rotation", env.rotation.is_some()),
+                    ("mapping", env.mapping.is_some()),
+                    ("transform", !env.transform.is_empty()),
+                ] {
+                    if given {
+                        return Err(self.error(at(), format!("[environment]: `{key}` applies to an image (`file`)")));
+                    }
                 }
-                Ok(Environment::Constant(color.map_or(Color::ONE, Color::from) * scale))
+                Environment::uniform(color.map_or(Color::ONE, Color::from), scale, illuminance)
+                    .map_err(|e| self.error(at(), format!("[environment]: {e}")))
             }
             (Some(file), None) => {
                 let path = self.relative(file);
+                let file_error =
+                    |e| self.error(find_value(&self.source, "file", file).or_else(at), format!("[environment]: {e}"));
                 let rotation = env.rotation.map_or(0.0, Finite::get);
-                Environment::from_file(&path, scale, rotation).map_err(|e| {
-                    self.error(find_value(&self.source, "file", file).or_else(at), format!("[environment]: {e}"))
-                })
+                if env.mapping.is_none() && env.transform.is_empty() && illuminance.is_none() {
+                    return Environment::from_file(&path, scale, rotation).map_err(file_error);
+                }
+                if env.rotation.is_some() && !env.transform.is_empty() {
+                    return Err(self.error(at(), "[environment]: give `rotation` or `transform`, not both"));
+                }
+                let light_to_world = if env.transform.is_empty() {
+                    Transform::rotate_y(rotation)
+                } else {
+                    self.transform(&env.transform, "[environment]", at())?
+                };
+                let options = MapOptions {
+                    mapping: match env.mapping {
+                        None | Some(SphericalMappingDesc::Equirectangular) => EnvironmentMapping::Equirectangular,
+                        Some(SphericalMappingDesc::EqualArea) => EnvironmentMapping::EqualArea,
+                    },
+                    light_to_world,
+                    scale,
+                    illuminance,
+                };
+                Environment::from_file_with(&path, &options).map_err(file_error)
             }
         }
     }

@@ -10,7 +10,9 @@
 //! attaches file positions to the builder's errors.
 
 mod build;
+mod camera;
 mod description;
+mod export;
 mod locate;
 mod materials;
 mod objects;
@@ -18,6 +20,7 @@ pub mod pbrt;
 mod values;
 
 pub use description::*;
+pub use export::{export_scene, ExportError, ExportSummary};
 pub use values::*;
 
 use crate::render::RenderSettings;

@@ -10,7 +10,7 @@ use crate::geometry::{Mat4, Transform, Vec3};
 use crate::material::MaterialId;
 use crate::primitive::Primitive;
 use crate::scene::{Emission, SceneBuilder, SceneError, SourceLocation};
-use crate::shapes::{Mesh, Plane, Shape, Sphere, Triangle};
+use crate::shapes::{Cylinder, DefaultUv, Disk, Mesh, Plane, Shape, Sphere, Triangle};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -52,23 +52,51 @@ impl SceneFile {
             self.place(scene, Primitive::new(shape, t, id), obj.emission, &what, at)
         };
         for (i, s) in group.sphere.iter().enumerate() {
-            let shape = Sphere::new(s.center.into(), s.radius.get()).map(Shape::from);
-            let obj = Object::new("sphere", i, &s.name, &s.material, &s.transform, (s.emission, s.two_sided));
-            add(ctx, obj, shape, scene)?;
+            let r = s.radius.get();
+            let mut transform = s.transform.clone();
+            let shape = if s.z_min.is_some() || s.z_max.is_some() || s.phi_max.is_some() {
+                // pbrt-v4's sphere is defined at its origin: the centre
+                // becomes a translation, applied first.
+                if s.center.0 != [0.0; 3] {
+                    transform.insert(0, TransformOp::Translate(s.center));
+                }
+                let z = |v: Option<Finite>, d: f32| v.map_or(d, Finite::get);
+                Sphere::partial(r, z(s.z_min, -r), z(s.z_max, r), z(s.phi_max, 360.0))
+            } else {
+                Sphere::new(s.center.into(), r)
+            };
+            let keys = EmissionKeys::of(s.emission, s.two_sided, s.reverse_orientation);
+            let obj = Object::new("sphere", i, &s.name, &s.material, &transform, keys);
+            add(ctx, obj, shape.map(Shape::from), scene)?;
+        }
+        for (i, d) in group.disk.iter().enumerate() {
+            let phi = d.phi_max.map_or(360.0, Finite::get);
+            let shape = Disk::new(d.height.get(), d.radius.get(), d.inner_radius.get(), phi).map(Shape::from);
+            let keys = EmissionKeys::of(d.emission, d.two_sided, d.reverse_orientation);
+            add(ctx, Object::new("disk", i, &d.name, &d.material, &d.transform, keys), shape, scene)?;
+        }
+        for (i, c) in group.cylinder.iter().enumerate() {
+            let phi = c.phi_max.map_or(360.0, Finite::get);
+            let shape = Cylinder::new(c.radius.get(), c.z_min.get(), c.z_max.get(), phi).map(Shape::from);
+            let keys = EmissionKeys::of(c.emission, c.two_sided, c.reverse_orientation);
+            add(ctx, Object::new("cylinder", i, &c.name, &c.material, &c.transform, keys), shape, scene)?;
         }
         for (i, p) in group.plane.iter().enumerate() {
             let shape = Plane::new(p.point.into(), p.normal.into()).map(Shape::from);
-            add(ctx, Object::new("plane", i, &p.name, &p.material, &p.transform, (None, false)), shape, scene)?;
+            let keys = EmissionKeys::default();
+            add(ctx, Object::new("plane", i, &p.name, &p.material, &p.transform, keys), shape, scene)?;
         }
         for (i, t) in group.triangle.iter().enumerate() {
             let v = t.vertices.map(Vec3::from);
             let n = t.normals.map(|n| n.map(Vec3::from));
             let shape = Triangle::new(v, n).map(Shape::from);
-            let obj = Object::new("triangle", i, &t.name, &t.material, &t.transform, (t.emission, t.two_sided));
+            let keys = EmissionKeys::of(t.emission, t.two_sided, t.reverse_orientation);
+            let obj = Object::new("triangle", i, &t.name, &t.material, &t.transform, keys);
             add(ctx, obj, shape, scene)?;
         }
         for (i, q) in group.quad.iter().enumerate() {
-            let obj = Object::new("quad", i, &q.name, &q.material, &q.transform, (q.emission, q.two_sided));
+            let keys = EmissionKeys::of(q.emission, q.two_sided, q.reverse_orientation);
+            let obj = Object::new("quad", i, &q.name, &q.material, &q.transform, keys);
             match quad_triangles(q.vertices.map(Vec3::from)) {
                 Ok([a, b]) => {
                     add(ctx, obj, Ok(a), scene)?;
@@ -95,7 +123,8 @@ impl SceneFile {
                 }
                 _ => Primitive::new(Shape::Mesh(mesh), t, resolve(ctx, &what, m.material.as_deref(), at)?),
             };
-            self.place(scene, primitive, (m.emission, m.two_sided), &what, at)?;
+            let keys = EmissionKeys::of(m.emission, m.two_sided, m.reverse_orientation);
+            self.place(scene, primitive, keys, &what, at)?;
         }
         for (i, g) in group.group.iter().enumerate() {
             let child_label = describe(label, "group", i, &g.name);
@@ -134,14 +163,16 @@ impl SceneFile {
         &self,
         scene: &mut SceneBuilder,
         primitive: Primitive,
-        (emission, two_sided): (Option<Rgb>, bool),
+        keys: EmissionKeys,
         what: &str,
         at: Option<SourceLocation>,
     ) -> Result<(), SceneError> {
+        let EmissionKeys { emission, two_sided, reverse } = keys;
         let emission = match emission {
-            Some(radiance) => Some(Emission { radiance: radiance.into(), two_sided, reverse: false }),
-            None if two_sided => {
-                return Err(self.error(at, format!("{what}: `two_sided` applies only with `emission`")))
+            Some(radiance) => Some(Emission { radiance: radiance.into(), two_sided, reverse }),
+            None if two_sided || reverse => {
+                let key = if two_sided { "two_sided" } else { "reverse_orientation" };
+                return Err(self.error(at, format!("{what}: `{key}` applies only with `emission`")));
             }
             None => None,
         };
@@ -172,7 +203,7 @@ impl SceneFile {
         what: &str,
         at: Option<SourceLocation>,
     ) -> Result<LoadedMesh, SceneError> {
-        let (file, normals) = match (&m.mesh, &m.file) {
+        let (file, normals, default_uv) = match (&m.mesh, &m.file) {
             (Some(name), None) => {
                 if m.normals.is_some() {
                     return Err(
@@ -187,13 +218,18 @@ impl SceneFile {
                         format!("{what}: mesh \"{name}\" is not defined under [meshes] (defined: {known})"),
                     )
                 })?;
-                (def.file.as_str(), def.normals)
+                if m.default_uv.is_some() {
+                    return Err(
+                        self.error(at, format!("{what}: `default_uv` belongs to [meshes.{name}], not to a placement"))
+                    );
+                }
+                (def.file.as_str(), def.normals, def.default_uv)
             }
-            (None, Some(file)) => (file.as_str(), m.normals.unwrap_or_default()),
+            (None, Some(file)) => (file.as_str(), m.normals.unwrap_or_default(), m.default_uv.unwrap_or_default()),
             _ => return Err(self.error(at, format!("{what}: give either `mesh` (a name under [meshes]) or `file`"))),
         };
         let path = self.relative(file);
-        let key = (path.clone(), normals);
+        let key = (path.clone(), normals, default_uv);
         if let Some(found) = ctx.meshes.get(&key) {
             return Ok(found.clone());
         }
@@ -224,7 +260,12 @@ impl SceneFile {
             }
             Some(Arc::from(table))
         };
-        let mesh = Mesh::new(data).map_err(|e| self.error(file_at, format!("{what}: {e}")))?;
+        let mesh = Mesh::new(data).map_err(|e| self.error(file_at, format!("{what}: {e}")))?.with_default_uv(
+            match default_uv {
+                DefaultUvDesc::Barycentric => DefaultUv::Barycentric,
+                DefaultUvDesc::Pbrt => DefaultUv::Pbrt,
+            },
+        );
         if mesh.degenerate_count() > 0 {
             scene.warn(format!(
                 "{}: {} zero-area triangle{} skipped",
@@ -241,7 +282,12 @@ impl SceneFile {
     /// The transform of `ops`. Scales and matrices are checked as they are
     /// read; what can still fail here (a rotation about an axis too long to
     /// normalise) is reported at `at`, the object's table.
-    fn transform(&self, ops: &[TransformOp], what: &str, at: Option<SourceLocation>) -> Result<Transform, SceneError> {
+    pub(super) fn transform(
+        &self,
+        ops: &[TransformOp],
+        what: &str,
+        at: Option<SourceLocation>,
+    ) -> Result<Transform, SceneError> {
         let mut t = Transform::IDENTITY;
         for op in ops {
             let step = match op {
@@ -282,7 +328,21 @@ struct Object<'a> {
     name: &'a Option<String>,
     material: &'a Option<String>,
     transform: &'a [TransformOp],
-    emission: (Option<Rgb>, bool),
+    emission: EmissionKeys,
+}
+
+/// The emission keys of an object.
+#[derive(Clone, Copy, Default)]
+pub(super) struct EmissionKeys {
+    emission: Option<Rgb>,
+    two_sided: bool,
+    reverse: bool,
+}
+
+impl EmissionKeys {
+    fn of(emission: Option<Rgb>, two_sided: bool, reverse: bool) -> Self {
+        Self { emission, two_sided, reverse }
+    }
 }
 
 impl<'a> Object<'a> {
@@ -292,7 +352,7 @@ impl<'a> Object<'a> {
         name: &'a Option<String>,
         material: &'a Option<String>,
         transform: &'a [TransformOp],
-        emission: (Option<Rgb>, bool),
+        emission: EmissionKeys,
     ) -> Self {
         Self { kind, index, name, material, transform, emission }
     }
@@ -316,7 +376,7 @@ pub(super) struct BuildContext {
     pub(super) ids: HashMap<String, MaterialId>,
     /// Meshes loaded so far, by path and normals mode: each file is read and
     /// built once however often it is placed.
-    pub(super) meshes: HashMap<(PathBuf, NormalsDesc), LoadedMesh>,
+    pub(super) meshes: HashMap<(PathBuf, NormalsDesc, DefaultUvDesc), LoadedMesh>,
     /// Prototypes being expanded, to refuse one that contains itself.
     pub(super) active_prototypes: Vec<String>,
 }

@@ -34,11 +34,13 @@ pub mod loop_subdiv;
 mod normals;
 pub mod obj;
 pub mod ply;
+mod ply_write;
 
 pub use bilinear::bilinear_patches;
 pub use loop_subdiv::loop_subdivide;
 pub use obj::{load_obj, parse_obj};
 pub use ply::{load_ply, parse_ply};
+pub use ply_write::write_ply;
 
 /// Why a mesh could not be loaded.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

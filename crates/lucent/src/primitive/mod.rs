@@ -114,6 +114,22 @@ impl Primitive {
         self.face_materials.as_deref()
     }
 
+    /// The area light of face `face` (0 for shapes other than meshes), if
+    /// it emits.
+    pub fn face_area_light(&self, face: u32) -> Option<u32> {
+        match &self.face_lights {
+            Some(table) => table.get(face as usize).copied().filter(|&l| l != NO_LIGHT),
+            None => self.area_light.map(|first| first + face),
+        }
+    }
+
+    /// The material of face `face` (0 for shapes other than meshes): the
+    /// face's own through [`Primitive::face_materials`], else the
+    /// primitive's.
+    pub fn face_material(&self, face: u32) -> MaterialId {
+        self.material_at(face)
+    }
+
     /// The index of the first of the primitive's area lights, if it emits.
     pub fn area_light(&self) -> Option<u32> {
         self.area_light

@@ -121,6 +121,26 @@ impl Mesh {
         self
     }
 
+    /// How triangles without per-vertex uvs are parameterised.
+    pub fn default_uv(&self) -> DefaultUv {
+        self.default_uv
+    }
+
+    /// A copy of the mesh's data (positions, indices, normals as stored:
+    /// normalised; uvs, face indices and material ids), e.g. to write it to
+    /// a file. Mesh-file materials are not kept by a `Mesh`.
+    pub fn to_triangle_mesh(&self) -> TriangleMesh {
+        TriangleMesh {
+            positions: self.positions.clone(),
+            indices: self.indices.clone(),
+            normals: self.normals.clone(),
+            uvs: self.uvs.clone(),
+            face_indices: self.face_indices.clone(),
+            material_ids: self.material_ids.clone(),
+            materials: Vec::new(),
+        }
+    }
+
     /// Number of triangles, degenerate ones included.
     pub fn triangle_count(&self) -> usize {
         self.indices.len()

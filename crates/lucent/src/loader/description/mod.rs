@@ -55,6 +55,12 @@ pub struct SceneDescription {
     /// Quadrilaterals.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub quad: Vec<QuadDesc>,
+    /// Disks.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub disk: Vec<DiskDesc>,
+    /// Cylinders.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cylinder: Vec<CylinderDesc>,
     /// Groups of objects with a shared transform.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub group: Vec<GroupDesc>,

@@ -26,8 +26,8 @@ macro_rules! object {
     };
 }
 
-/// [`object!`] for a surface that may emit light: adds `emission` and
-/// `two_sided`.
+/// [`object!`] for a surface that may emit light: adds `emission`,
+/// `two_sided` and `reverse_orientation`.
 macro_rules! emissive_object {
     ($(#[$doc:meta])* pub struct $name:ident { $($(#[$fdoc:meta])* pub $field:ident: $ty:ty,)* }) => {
         object! {
@@ -41,6 +41,11 @@ macro_rules! emissive_object {
                 /// (default: front only).
                 #[serde(default, skip_serializing_if = "std::ops::Not::not")]
                 pub two_sided: bool,
+                /// Whether a one-sided emitter emits from its back, the side
+                /// opposite its normal (pbrt-v4's `ReverseOrientation`;
+                /// default false).
+                #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+                pub reverse_orientation: bool,
             }
         }
     };
@@ -126,7 +131,77 @@ emissive_object! {
         /// Material name (default: the enclosing group's).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         pub material: Option<String>,
+        /// Clip below this height along the sphere's own `z` axis (default:
+        /// `-radius`). Any of `z_min`, `z_max`, `phi_max` makes this
+        /// pbrt-v4's sphere: `z` up, with pbrt's (u, v) parameterisation.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub z_min: Option<Finite>,
+        /// Clip above this height (default: `radius`).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub z_max: Option<Finite>,
+        /// Keep the azimuths `0 ≤ φ ≤ phi_max` degrees about `z` (default 360).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub phi_max: Option<Finite>,
     }
+}
+
+emissive_object! {
+    /// A `[[disk]]`: pbrt-v4's disk, an annulus sector in the plane
+    /// `z = height` of its own space, facing `+z`.
+    pub struct DiskDesc {
+        /// Height along `z` (default 0).
+        #[serde(default = "zero_finite")]
+        pub height: Finite,
+        /// Outer radius (default 1).
+        #[serde(default = "positive_one")]
+        pub radius: Positive,
+        /// Inner radius (default 0).
+        #[serde(default = "zero_non_negative")]
+        pub inner_radius: NonNegative,
+        /// Keep the azimuths `0 ≤ φ ≤ phi_max` degrees (default 360).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub phi_max: Option<Finite>,
+        /// Material name (default: the enclosing group's).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub material: Option<String>,
+    }
+}
+
+emissive_object! {
+    /// A `[[cylinder]]`: pbrt-v4's open cylinder about its own `z` axis.
+    pub struct CylinderDesc {
+        /// Radius (default 1).
+        #[serde(default = "positive_one")]
+        pub radius: Positive,
+        /// Lower end along `z` (default -1).
+        #[serde(default = "minus_one")]
+        pub z_min: Finite,
+        /// Upper end along `z` (default 1).
+        #[serde(default = "positive_one_finite")]
+        pub z_max: Finite,
+        /// Keep the azimuths `0 ≤ φ ≤ phi_max` degrees (default 360).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub phi_max: Option<Finite>,
+        /// Material name (default: the enclosing group's).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub material: Option<String>,
+    }
+}
+
+fn zero_finite() -> Finite {
+    Finite(0.0)
+}
+
+fn zero_non_negative() -> NonNegative {
+    NonNegative(0.0)
+}
+
+fn minus_one() -> Finite {
+    Finite(-1.0)
+}
+
+fn positive_one_finite() -> Finite {
+    Finite(1.0)
 }
 
 fn origin() -> Vec3Desc {
@@ -201,6 +276,12 @@ pub struct GroupDesc {
     /// Member quads.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub quad: Vec<QuadDesc>,
+    /// Member disks.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub disk: Vec<DiskDesc>,
+    /// Member cylinders.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cylinder: Vec<CylinderDesc>,
     /// Nested groups.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub group: Vec<GroupDesc>,
@@ -232,8 +313,28 @@ pub struct MeshFileDesc {
     /// Path of a `.ply` or `.obj` file, relative to the scene file.
     pub file: String,
     /// Shading normals (default `file`).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "is_default")]
     pub normals: NormalsDesc,
+    /// Texture coordinates of triangles without per-vertex uvs (default
+    /// `barycentric`).
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub default_uv: DefaultUvDesc,
+}
+
+/// How a triangle of a mesh without per-vertex texture coordinates is
+/// parameterised.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Serialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum DefaultUvDesc {
+    /// Corner uvs (0, 0), (1, 0), (0, 1): the barycentrics.
+    #[default]
+    Barycentric,
+    /// Corner uvs (0, 0), (1, 0), (1, 1): pbrt-v4's.
+    Pbrt,
+}
+
+pub(crate) fn is_default<T: Default + PartialEq>(v: &T) -> bool {
+    *v == T::default()
 }
 
 emissive_object! {
@@ -248,6 +349,10 @@ emissive_object! {
         /// Shading normals, with `file` (default `file`).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         pub normals: Option<NormalsDesc>,
+        /// Texture coordinates without per-vertex uvs, with `file` (default
+        /// `barycentric`).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub default_uv: Option<DefaultUvDesc>,
         /// Material of every face; without it, an OBJ's own materials are used,
         /// else the group's material.
         #[serde(default, skip_serializing_if = "Option::is_none")]

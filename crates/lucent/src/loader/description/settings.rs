@@ -1,33 +1,83 @@
 //! The `[camera]`, `[render]`, `[environment]` and `[ambient]` tables.
 
 use super::super::values::*;
+use super::TransformOp;
 use super::{default_up, one, white};
 use serde::{Deserialize, Serialize};
 
 /// The `[camera]` table.
+///
+/// Without `projection`, lucent's classic pinhole or thin-lens camera:
+/// `eye`, `look_at`, `up`, a horizontal `fov`. With `projection`, pbrt-v4's
+/// cameras (`perspective`, `orthographic`, `spherical`), placed by a
+/// camera-to-world `transform` (camera space looks down `+z`, `+y` up on the
+/// image, `+x` to the right) or by `eye`/`look_at`/`up`.
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraDesc {
     /// Eye position.
-    pub eye: Vec3Desc,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub eye: Option<Vec3Desc>,
     /// The point looked at (the centre of the image).
-    pub look_at: Vec3Desc,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub look_at: Option<Vec3Desc>,
     /// Up direction (default `[0, 1, 0]`).
     #[serde(default = "default_up")]
     pub up: Direction,
-    /// Horizontal field of view in degrees (default 60).
-    #[serde(default = "default_fov")]
-    pub fov: FieldOfView,
+    /// Field of view in degrees: horizontal for the classic camera (default
+    /// 60); for `projection = "perspective"`, that of the screen window's
+    /// `[-1, 1]`, the shorter image axis unless `screen_window` says
+    /// otherwise (pbrt-v4's `fov`, default 90).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fov: Option<FieldOfView>,
     /// Lens radius for depth of field (default 0: a pinhole).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lens_radius: Option<NonNegative>,
-    /// Distance to the plane of focus (default: eye to look_at).
+    /// Distance to the plane of focus (default: eye to look_at; with
+    /// `projection`, 10⁶ as pbrt-v4).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub focal_distance: Option<Positive>,
+    /// pbrt-v4's camera model, when given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub projection: Option<ProjectionDesc>,
+    /// Camera to world, with `projection` (instead of `eye` and `look_at`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub transform: Vec<TransformOp>,
+    /// With `projection`: `[xmin, xmax, ymin, ymax]` of the screen window
+    /// (default: `[-a, a, -1, 1]` for an image wider than tall by `a`,
+    /// `[-1, 1, -1/a, 1/a]` otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub screen_window: Option<[Finite; 4]>,
+    /// With `projection`: replaces `width / height` in the default screen
+    /// window.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frame_aspect_ratio: Option<Positive>,
+    /// With `projection = "spherical"`: how the image covers the sphere
+    /// (default `equal_area`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mapping: Option<SphericalMappingDesc>,
 }
 
-fn default_fov() -> FieldOfView {
-    FieldOfView(60.0)
+/// pbrt-v4's camera models.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ProjectionDesc {
+    /// Perspective, with `fov`, `screen_window`, a thin lens.
+    Perspective,
+    /// Parallel rays; the screen window is in camera-space units.
+    Orthographic,
+    /// Every pixel a direction.
+    Spherical,
+}
+
+/// How a spherical camera's or an environment's image covers the sphere.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SphericalMappingDesc {
+    /// Latitude–longitude.
+    Equirectangular,
+    /// pbrt-v4's square equal-area octahedral map.
+    EqualArea,
 }
 
 /// Tone-mapping operators, as named in scene files.
@@ -83,6 +133,19 @@ pub struct RenderDesc {
     /// Pixel reconstruction filter (default: a box over the pixel).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub filter: Option<FilterDesc>,
+    /// Path integrator: roughen near-specular surfaces after the first
+    /// diffuse bounce (pbrt-v4's `regularize`; default false).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub regularize: bool,
+    /// Factor of every sample's radiance, per channel (default `[1, 1, 1]`):
+    /// exposure and white balance (pbrt-v4's film `iso`, `exposuretime`,
+    /// `whitebalance` become this).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub film_scale: Option<Rgb>,
+    /// A sample whose largest channel exceeds this is scaled down to it
+    /// (pbrt-v4's `maxcomponentvalue`; default: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_component: Option<Positive>,
 }
 
 /// The integrators, as named in scene files.
@@ -120,6 +183,8 @@ pub enum FilterKindDesc {
     Gaussian,
     /// Mitchell–Netravali.
     Mitchell,
+    /// Lanczos windowed sinc.
+    Lanczos,
 }
 
 /// `filter = { kind = "...", radius = ... }` in `[render]`.
@@ -128,7 +193,8 @@ pub enum FilterKindDesc {
 pub struct FilterDesc {
     /// Which filter.
     pub kind: FilterKindDesc,
-    /// Radius in pixels (defaults: box 0.5, tent 1, gaussian 1.5, mitchell 2).
+    /// Radius in pixels (defaults: box 0.5, tent 1, gaussian 1.5, mitchell 2,
+    /// lanczos 4).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radius: Option<Positive>,
     /// Gaussian standard deviation (default 0.5).
@@ -140,6 +206,9 @@ pub struct FilterDesc {
     /// Mitchell C (default 1/3).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub c: Option<Finite>,
+    /// Lanczos τ: periods of the windowing sinc (default 3).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tau: Option<Positive>,
 }
 
 /// The `[environment]` table: light from infinitely far away, for the path
@@ -160,6 +229,19 @@ pub struct EnvironmentDesc {
     /// Rotation of the image about +y, in degrees (default 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rotation: Option<Finite>,
+    /// How the image covers the sphere (default `equirectangular`, `+y`
+    /// up; `equal_area` is pbrt-v4's square map, `+z` up).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mapping: Option<SphericalMappingDesc>,
+    /// The image's own frame to world, instead of `rotation`: rotations and
+    /// mirrors (a translation or a uniform scale is ignored).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub transform: Vec<TransformOp>,
+    /// Scale the radiance so that a surface facing the image's zenith
+    /// receives this illuminance (times `intensity`; pbrt-v4's
+    /// `illuminance`; default: no normalisation).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub illuminance: Option<Positive>,
 }
 
 fn default_width() -> ImageDimension {
@@ -192,6 +274,9 @@ impl Default for RenderDesc {
             integrator: IntegratorDesc::default(),
             sampler: None,
             filter: None,
+            regularize: false,
+            film_scale: None,
+            max_component: None,
         }
     }
 }

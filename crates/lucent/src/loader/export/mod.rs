@@ -1,0 +1,11 @@
+//! Writing a scene back out as a scene file: the scene model
+//! ([`Scene`](crate::scene::Scene) and its
+//! [`RenderSettings`](crate::render::RenderSettings)) described in the
+//! TOML/JSON format ([`SceneDescription`](super::SceneDescription)), meshes
+//! as PLY files beside it. `lucent convert` is this, after an import.
+
+mod materials;
+mod scene;
+
+pub(crate) use materials::*;
+pub use scene::*;
