@@ -62,7 +62,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Sphere::new(Vec3::new(-2.0, 3.5, -1.0), 0.3)?,
         Transform::IDENTITY,
         lamp,
-        Emission { radiance: Color::new(30.0, 20.0, 10.0), two_sided: false, reverse: false },
+        Emission { radiance: Color::new(30.0, 20.0, 10.0), two_sided: false, reverse: false, image: None },
     )?;
     let sky = sky(256, &SkyParams::default())?;
     let map = EnvironmentMap::new(sky.width(), sky.height(), sky.pixels().to_vec(), 1.0, 0.0)?;

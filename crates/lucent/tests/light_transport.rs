@@ -341,7 +341,7 @@ impl EnvImage {
 fn closed_scenes_converge_to_the_geometric_series() {
     let albedo = DVec3::new(0.3, 0.5, 0.7);
     let le = DVec3::splat(0.5);
-    let emission = Emission { radiance: c3(le), two_sided: true, reverse: false };
+    let emission = Emission { radiance: c3(le), two_sided: true, reverse: false, image: None };
 
     let cam = camera(DVec3::new(0.3, -0.2, 0.1), DVec3::new(1.0, 0.5, 2.0), DVec3::Y, 70.0, 12, 12);
     let mut b = SceneBuilder::new(cam.camera());
@@ -364,7 +364,7 @@ fn closed_scenes_converge_to_the_geometric_series() {
                 t,
                 Transform::IDENTITY,
                 wall,
-                Emission { radiance: c3(le), two_sided: false, reverse: false },
+                Emission { radiance: c3(le), two_sided: false, reverse: false, image: None },
             )
             .unwrap();
         }
@@ -707,8 +707,12 @@ fn several_lights_of_different_power_add_up() {
                 Emitter::Area(tris, radiance) => {
                     for t in tris {
                         if lit {
-                            let emission =
-                                Emission { radiance: Color::splat(*radiance as f32), two_sided: false, reverse: false };
+                            let emission = Emission {
+                                radiance: Color::splat(*radiance as f32),
+                                two_sided: false,
+                                reverse: false,
+                                image: None,
+                            };
                             b.add_emissive(t.clone(), Transform::IDENTITY, black, emission).unwrap();
                         } else {
                             b.add_shape(t.clone(), Transform::IDENTITY, black).unwrap();
@@ -718,8 +722,12 @@ fn several_lights_of_different_power_add_up() {
                 Emitter::Ball(c, r, radiance) => {
                     let s = Sphere::new(c.as_vec3(), *r as f32).unwrap();
                     if lit {
-                        let emission =
-                            Emission { radiance: Color::splat(*radiance as f32), two_sided: false, reverse: false };
+                        let emission = Emission {
+                            radiance: Color::splat(*radiance as f32),
+                            two_sided: false,
+                            reverse: false,
+                            image: None,
+                        };
                         b.add_emissive(s, Transform::IDENTITY, black, emission).unwrap();
                     } else {
                         b.add_shape(s, Transform::IDENTITY, black).unwrap();
@@ -798,11 +806,11 @@ fn light_bsdf_and_mis_estimates_agree() {
             t,
             Transform::IDENTITY,
             dark,
-            Emission { radiance: Color::new(0.6, 0.55, 0.5), two_sided: false, reverse: false },
+            Emission { radiance: Color::new(0.6, 0.55, 0.5), two_sided: false, reverse: false, image: None },
         )
         .unwrap();
     }
-    let emission = Emission { radiance: Color::new(12.0, 12.0, 15.0), two_sided: false, reverse: false };
+    let emission = Emission { radiance: Color::new(12.0, 12.0, 15.0), two_sided: false, reverse: false, image: None };
     b.add_emissive(Sphere::new(Vec3::new(1.2, 1.3, -0.6), 0.25).unwrap(), Transform::IDENTITY, dark, emission).unwrap();
     b.set_environment(EnvImage::sky(0.5).environment()).unwrap();
     let scene = b.build().unwrap();

@@ -131,3 +131,70 @@ fn the_equal_area_camera_sees_an_equal_area_map_pixel_for_pixel() {
         assert!(wrong <= 5, "{wrong} of {} pixels differ", n * n);
     }
 }
+
+/// The centre pixel of a 5 × 5 render of a floor (albedo 0.5) lit by a
+/// two-sided 2 × 2 square light one unit above it, whose `AreaLightSource`
+/// is `light`, imported from pbrt-v4 text in `dir`.
+fn floor_under_square_light(dir: &std::path::Path, light: &str) -> (Color, LoadedScene) {
+    let text = format!(
+        r#"LookAt 0 0 0.5  0 0 0  0 1 0
+Camera "perspective" "float fov" 1
+Film "rgb" "integer xresolution" 5 "integer yresolution" 5
+Sampler "independent" "integer pixelsamples" 4096
+Integrator "path" "integer maxdepth" 1
+WorldBegin
+AttributeBegin
+  {light}
+  Material "diffuse" "rgb reflectance" [0 0 0]
+  Shape "trianglemesh" "point3 P" [-1 -1 1  1 -1 1  1 1 1  -1 1 1] "integer indices" [0 1 2 0 2 3]
+    "point2 uv" [0 0 1 0 1 1 0 1]
+AttributeEnd
+Material "diffuse" "rgb reflectance" [0.5 0.5 0.5]
+Shape "disk" "float radius" 10
+"#
+    );
+    let path = dir.join("scene.pbrt");
+    std::fs::write(&path, text).unwrap();
+    let loaded = lucent::loader::pbrt::import_pbrt(&path, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
+    let film = render(&loaded.scene, &loaded.settings, RenderOptions::default()).unwrap().film;
+    (film.pixel(2, 2), loaded)
+}
+
+#[test]
+fn an_area_light_image_scales_radiance_by_the_surface_texture_coordinates() {
+    // A 2 × 1 image, white on the left (u < 1/2), black on the right.
+    // Interpolated bilinearly with wrapping, its value v(u) satisfies
+    // v(u) + v(1 − u) = 1, so a point under the centre of the light gets
+    // exactly half the irradiance of the light with a uniform L = 1.
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("half.png");
+    image::RgbImage::from_fn(2, 1, |x, _| image::Rgb(if x == 0 { [255; 3] } else { [0; 3] })).save(&png).unwrap();
+    let (uniform, _) =
+        floor_under_square_light(dir.path(), r#"AreaLightSource "diffuse" "rgb L" [2 2 2] "bool twosided" true"#);
+    let (imaged, scene) = floor_under_square_light(
+        dir.path(),
+        r#"AreaLightSource "diffuse" "string filename" "half.png" "float scale" 2 "bool twosided" true"#,
+    );
+    let ratio = imaged.y / uniform.y;
+    assert!((ratio - 0.5).abs() < 0.02, "{imaged} vs {uniform}: ratio {ratio}");
+
+    // Seen directly, the light's radiance is scale × the image at (u, v).
+    let light = &scene.scene.area_lights()[0];
+    let at = |u: f32| light.emitted(Vec3::new(0.0, 0.0, 1.0), Vec2::new(u, 0.5), -Vec3::Z);
+    assert!((at(0.25) - Color::splat(2.0)).abs().max_element() < 1e-5, "{}", at(0.25));
+    assert!(at(0.75).max_element() < 1e-5, "{}", at(0.75));
+    assert!((at(0.5) - Color::splat(1.0)).abs().max_element() < 1e-5, "{}", at(0.5));
+}
+
+#[test]
+fn an_area_light_with_both_l_and_an_image_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.pbrt");
+    std::fs::write(
+        &path,
+        "WorldBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"string filename\" \"x.png\"\nShape \"sphere\"\n",
+    )
+    .unwrap();
+    let e = lucent::loader::pbrt::import_pbrt(&path, &Default::default()).unwrap_err().to_string();
+    assert!(e.contains("give either \"L\" or \"filename\""), "{e}");
+}

@@ -224,7 +224,7 @@ impl Integrator for PathIntegrator {
             if let Some(index) = si.light {
                 let index = index as usize;
                 if let Emitter::Area(area) = &lights.emitters()[index] {
-                    let le = area.emitted(si.p, wo);
+                    let le = area.emitted(si.p, si.uv, wo);
                     if le.max_element() > 0.0 {
                         if depth == 0 || specular_bounce {
                             radiance += beta * le;

@@ -8,12 +8,58 @@
 //! it subtends, each otherwise by area. Every pdf here is with respect to
 //! solid angle at the shading point. What is about light stays here: the
 //! radiance, which sides emit, the power.
+//!
+//! A light's radiance may vary over its surface, read from an image by
+//! the surface's texture coordinates ([`EmissionImage`], pbrt-v4's
+//! `DiffuseAreaLight` with a `filename`, PBRT 4th ed., §12.5.1).
 
 use super::emitter::{LiSample, LightSampleContext};
 use crate::color::{luminance, Color};
-use crate::geometry::{Vec2, Vec3};
+use crate::geometry::{Ray, Vec2, Vec3};
+use crate::primitive::Primitive;
 use crate::shapes::Shape;
+use crate::texture::{Texture, TextureContext};
 use std::f32::consts::PI;
+use std::sync::Arc;
+
+/// Radiance that varies over an emitter: `L(p) = radiance · texture(uv(p))`.
+///
+/// The texture is evaluated at the texture coordinates of the emitting
+/// surface itself, the placed primitive: at a ray's hit they are the hit's;
+/// for a point drawn by light sampling they are found by intersecting that
+/// primitive along the sampled direction (one ray against one primitive;
+/// if something of the same primitive lies in front of the sampled point,
+/// the shadow ray is blocked anyway).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EmissionImage {
+    /// The texture (an image, typically), multiplied by the light's
+    /// [`AreaLight::radiance`].
+    pub texture: Texture,
+    /// The emitting primitive, in world space through its transform.
+    pub surface: Primitive,
+    /// The texture's mean over `[0, 1]²`, for the light's power.
+    pub mean: Color,
+}
+
+impl EmissionImage {
+    /// An emission texture on `surface`; its mean is estimated on a 64 × 64
+    /// grid of texture coordinates (it only steers which light is sampled).
+    pub fn new(texture: Texture, surface: Primitive) -> Self {
+        const N: usize = 64;
+        let mut sum = Color::ZERO;
+        for j in 0..N {
+            for i in 0..N {
+                let uv = Vec2::new((i as f32 + 0.5) / N as f32, (j as f32 + 0.5) / N as f32);
+                sum += texture.evaluate(&TextureContext::new(Vec3::ZERO, Vec3::Z, uv)).max(Color::ZERO);
+            }
+        }
+        Self { texture, surface, mean: sum / (N * N) as f32 }
+    }
+
+    fn at(&self, p: Vec3, n: Vec3, uv: Vec2) -> Color {
+        self.texture.evaluate(&TextureContext::new(p, n, uv)).max(Color::ZERO)
+    }
+}
 
 /// A diffuse emitter: constant radiance over its surface.
 ///
@@ -37,6 +83,9 @@ pub struct AreaLight {
     /// emits on the side of the surface normal, which `ReverseOrientation`
     /// flips). No effect when two-sided.
     pub reverse: bool,
+    /// Radiance that varies over the surface: `radiance` times this
+    /// texture.
+    pub image: Option<Arc<EmissionImage>>,
 }
 
 impl AreaLight {
@@ -55,16 +104,18 @@ impl AreaLight {
         }
     }
 
-    /// Radiance leaving the point `p` of the light in direction `w`, with
-    /// the emitting side ([`AreaLight::l`]) decided by the light's own geometry
-    /// ([`Shape::front_side`]: a triangle's winding, a sphere's outside),
-    /// whatever normal the intersection reported.
+    /// Radiance leaving the point `p` (texture coordinates `uv`) of the
+    /// light in direction `w`, with the emitting side ([`AreaLight::l`])
+    /// decided by the light's own geometry ([`Shape::front_side`]: a
+    /// triangle's winding, a sphere's outside), whatever normal the
+    /// intersection reported.
     #[inline]
-    pub fn emitted(&self, p: Vec3, w: Vec3) -> Color {
-        if self.two_sided {
-            return self.radiance;
+    pub fn emitted(&self, p: Vec3, uv: Vec2, w: Vec3) -> Color {
+        let l = if self.two_sided { self.radiance } else { self.l(self.shape.front_side(p), w) };
+        match &self.image {
+            Some(image) if l != Color::ZERO => l * image.at(p, self.shape.front_side(p), uv),
+            _ => l,
         }
-        self.l(self.shape.front_side(p), w)
     }
 
     /// Surface area.
@@ -77,7 +128,8 @@ impl AreaLight {
     /// `Φ = π · A · lum(L) · (2 if two-sided)` (PBRT 4th ed., §12.3.1).
     pub fn power(&self) -> f32 {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
-        PI * self.area() * luminance(self.radiance) * sides
+        let mean = self.image.as_ref().map_or(Color::ONE, |i| i.mean);
+        PI * self.area() * luminance(self.radiance * mean) * sides
     }
 
     /// Sample a direction from `ctx` towards the light with uniform `u` in
@@ -93,7 +145,13 @@ impl AreaLight {
             return None;
         }
         let wi = to / d;
-        let l = self.l(n_light, -wi);
+        let mut l = self.l(n_light, -wi);
+        if let (Some(image), true) = (&self.image, l != Color::ZERO) {
+            // The texture coordinates of the sampled point: those of the
+            // emitting primitive where the sampled direction meets it.
+            let hit = image.surface.intersect(&Ray::new(ctx.p, wi), d * (1.0 + 1e-3))?;
+            l *= image.at(p_light, n_light, hit.uv);
+        }
         if l == Color::ZERO {
             return None;
         }
@@ -169,6 +227,7 @@ mod tests {
             radiance: Color::splat(l),
             two_sided: false,
             reverse: false,
+            image: None,
         };
         let want = (PI * l * (r / d).powi(2)) as f64;
         assert_close(irradiance(&light, &ctx(Vec3::ZERO, Vec3::Z), 50_000, 1), want);
@@ -183,8 +242,13 @@ mod tests {
     #[test]
     fn inside_a_sphere_sees_uniform_radiance() {
         // An enclosure of uniform radiance L gives E = π L whatever the normal.
-        let light =
-            AreaLight { shape: sphere(Vec3::ZERO, 2.0), radiance: Color::splat(1.5), two_sided: true, reverse: false };
+        let light = AreaLight {
+            shape: sphere(Vec3::ZERO, 2.0),
+            radiance: Color::splat(1.5),
+            two_sided: true,
+            reverse: false,
+            image: None,
+        };
         let c = ctx(Vec3::new(0.5, 1.0, -0.3), Vec3::new(1.0, 1.0, 0.0).normalize());
         assert_close(irradiance(&light, &c, 100_000, 3), (PI * 1.5) as f64);
         // One-sided: only the outside emits, so nothing arrives inside.
@@ -217,7 +281,13 @@ mod tests {
         let tri = [Vec3::new(-1.0, 2.0, -0.5), Vec3::new(1.5, 2.2, -0.3), Vec3::new(0.2, 2.5, 1.5)];
         // Front faces −y: wind so that the normal points at the origin.
         let front = if (tri[1] - tri[0]).cross(tri[2] - tri[0]).y < 0.0 { tri } else { [tri[0], tri[2], tri[1]] };
-        let light = AreaLight { shape: triangle(front), radiance: Color::splat(3.0), two_sided: false, reverse: false };
+        let light = AreaLight {
+            shape: triangle(front),
+            radiance: Color::splat(3.0),
+            two_sided: false,
+            reverse: false,
+            image: None,
+        };
         let n = Vec3::new(0.2, 1.0, 0.1).normalize();
         let spherical = MIN_SPHERICAL_SAMPLE_AREA..=MAX_SPHERICAL_SAMPLE_AREA;
         // Spherical sampling at moderate distance.
@@ -247,7 +317,7 @@ mod tests {
     fn one_sided_triangle_is_dark_from_behind() {
         let v = [Vec3::new(-1.0, 1.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 1.0)];
         // Normal of this winding: (2,0,0) × (1,0,1) = (0,-2,0): faces −y.
-        let one = AreaLight { shape: triangle(v), radiance: Color::ONE, two_sided: false, reverse: false };
+        let one = AreaLight { shape: triangle(v), radiance: Color::ONE, two_sided: false, reverse: false, image: None };
         let below = ctx(Vec3::ZERO, Vec3::Y);
         let above = ctx(Vec3::new(0.0, 2.0, 0.3), -Vec3::Y);
         assert!(irradiance(&one, &below, 1000, 1).0 > 0.0);
@@ -273,8 +343,13 @@ mod tests {
     fn reversed_sphere_emits_inwards() {
         // A one-sided sphere reversed lights its inside (uniform radiance L
         // in an enclosure gives E = π L) and not its outside.
-        let light =
-            AreaLight { shape: sphere(Vec3::ZERO, 2.0), radiance: Color::splat(1.5), two_sided: false, reverse: true };
+        let light = AreaLight {
+            shape: sphere(Vec3::ZERO, 2.0),
+            radiance: Color::splat(1.5),
+            two_sided: false,
+            reverse: true,
+            image: None,
+        };
         let inside = ctx(Vec3::new(0.5, 1.0, -0.3), Vec3::new(1.0, 1.0, 0.0).normalize());
         assert_close(irradiance(&light, &inside, 100_000, 3), (PI * 1.5) as f64);
         assert_eq!(irradiance(&light, &ctx(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z), 1000, 4).0, 0.0);
@@ -288,6 +363,7 @@ mod tests {
             radiance: Color::splat(2.0),
             two_sided: false,
             reverse: false,
+            image: None,
         };
         assert!((tri.area() - 0.5).abs() < 1e-6);
         assert!((tri.power() - PI * 0.5 * 2.0).abs() < 1e-5);
@@ -306,6 +382,7 @@ mod tests {
             radiance: Color::ONE,
             two_sided: true,
             reverse: false,
+            image: None,
         };
         assert_eq!(flat.power(), 0.0);
         let c = ctx(Vec3::new(0.5, 1.0, 0.0), -Vec3::Y);

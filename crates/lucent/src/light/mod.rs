@@ -22,7 +22,7 @@ pub mod equal_area;
 mod pbrt;
 mod set;
 
-pub use area::AreaLight;
+pub use area::{AreaLight, EmissionImage};
 pub use emitter::{Emitter, LiSample, LightSampleContext};
 pub use environment::{
     equirect_direction, equirect_uv, Environment, EnvironmentError, EnvironmentMap, EnvironmentMapping, MapOptions,

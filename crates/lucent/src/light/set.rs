@@ -64,6 +64,7 @@ mod tests {
                 radiance: Color::splat(4.0),
                 two_sided: false,
                 reverse: false,
+                image: None,
             }),
             Emitter::Environment(Environment::Constant(Color::splat(0.1))),
             Emitter::Delta(Light::directional(Vec3::Y, Color::ONE, 0.0).unwrap()),

@@ -169,7 +169,7 @@ impl SceneFile {
     ) -> Result<(), SceneError> {
         let EmissionKeys { emission, two_sided, reverse } = keys;
         let emission = match emission {
-            Some(radiance) => Some(Emission { radiance: radiance.into(), two_sided, reverse }),
+            Some(radiance) => Some(Emission { radiance: radiance.into(), two_sided, reverse, image: None }),
             None if two_sided || reverse => {
                 let key = if two_sided { "two_sided" } else { "reverse_orientation" };
                 return Err(self.error(at, format!("{what}: `{key}` applies only with `emission`")));

@@ -5,7 +5,7 @@ use crate::bsdf::ConductorFresnel;
 use crate::camera::Camera;
 use crate::color::Color;
 use crate::geometry::{Transform, Vec3};
-use crate::light::{AreaLight, Emitter, Environment, Light, LightSet};
+use crate::light::{AreaLight, EmissionImage, Emitter, Environment, Light, LightSet};
 use crate::material::{Material, MaterialId};
 use crate::primitive::{merge_loose_triangles, BvhAggregate, Primitive};
 use crate::shapes::{Mesh, Shape, Sphere, Triangle};
@@ -18,7 +18,7 @@ use std::sync::Arc;
 type PrototypeCheck<'a> = dyn Fn(&str, Option<&str>) -> Result<(), SceneError> + 'a;
 
 /// Light emitted by a surface: it becomes a diffuse area light.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Emission {
     /// Emitted radiance, linear RGB.
     pub radiance: Color,
@@ -28,6 +28,10 @@ pub struct Emission {
     /// Whether a one-sided emitter emits from its back instead (pbrt-v4's
     /// `ReverseOrientation`; see [`AreaLight::reverse`]).
     pub reverse: bool,
+    /// Radiance varying over the surface: `radiance` times this texture,
+    /// at the surface's texture coordinates (pbrt-v4's area light
+    /// `filename`; see [`EmissionImage`]).
+    pub image: Option<Texture>,
 }
 
 /// Why a primitive cannot be an area light.
@@ -242,7 +246,7 @@ impl SceneBuilder {
     /// defined, if there is one, else in the scene.
     pub fn add(&mut self, primitive: Primitive, emission: Option<Emission>) -> Result<&mut Self, SceneError> {
         self.check_material_ids(&primitive)?;
-        if let Some(e) = emission {
+        if let Some(e) = &emission {
             // Check now, so that an error names the object, not an instance.
             area_shapes(&primitive, e).map_err(|e| SceneError::new(None, e.to_string()))?;
         }
@@ -372,14 +376,16 @@ impl SceneBuilder {
             return Ok(());
         };
         let error = |e: EmissionError| SceneError::new(None, e.to_string());
-        let shapes = area_shapes(&primitive, e).map_err(error)?;
+        let shapes = area_shapes(&primitive, &e).map_err(error)?;
         let first = u32::try_from(self.area_lights.len()).map_err(|_| error(EmissionError::TooMany))?;
         u32::try_from(self.area_lights.len() + shapes.len()).map_err(|_| error(EmissionError::TooMany))?;
+        let image = e.image.map(|texture| Arc::new(EmissionImage::new(texture, primitive.clone())));
         self.area_lights.extend(shapes.into_iter().map(|shape| AreaLight {
             shape,
             radiance: e.radiance,
             two_sided: e.two_sided,
             reverse: e.reverse,
+            image: image.clone(),
         }));
         self.primitives.push(primitive.with_area_light(first));
         Ok(())
@@ -450,7 +456,7 @@ impl SceneBuilder {
                         Some(m) => Primitive::new(p.shape().clone(), t, m),
                         None => p.with_transform(t),
                     };
-                    self.place(placed, *emission)?;
+                    self.place(placed, emission.clone())?;
                 }
                 Member::Instance(inner) => self.expand(inner, transform, forced)?,
             }
@@ -477,7 +483,7 @@ fn uniform_scale(t: &Transform) -> Option<f32> {
 /// triangle per face (degenerate faces included, so that face `i` is light
 /// `first + i`). Only [`Shape::Sphere`] and [`Shape::Triangle`], the shapes
 /// an [`AreaLight`] samples.
-fn area_shapes(primitive: &Primitive, emission: Emission) -> Result<Vec<Shape>, EmissionError> {
+fn area_shapes(primitive: &Primitive, emission: &Emission) -> Result<Vec<Shape>, EmissionError> {
     if !(emission.radiance.is_finite() && emission.radiance.min_element() >= 0.0) {
         return Err(EmissionError::Radiance);
     }

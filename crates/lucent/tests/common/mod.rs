@@ -262,7 +262,7 @@ impl TestScene {
     }
 
     pub fn add_emissive(&mut self, primitive: Primitive, radiance: Color, two_sided: bool) -> Result<(), SceneError> {
-        self.builder.add(primitive, Some(Emission { radiance, two_sided, reverse: false })).map(|_| ())
+        self.builder.add(primitive, Some(Emission { radiance, two_sided, reverse: false, image: None })).map(|_| ())
     }
 
     pub fn set_environment(&mut self, environment: Option<lucent::light::Environment>) {

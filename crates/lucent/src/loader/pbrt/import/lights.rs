@@ -184,22 +184,32 @@ impl Importer<'_> {
             self.state.area_light = None;
             return Ok(());
         }
-        let l = self.light_color(params, "L", Color::ONE, loc)?;
         let two_sided = params.bool("twosided")?.unwrap_or(false);
-        if params.get("filename").is_some() {
-            let _ = params.string("filename")?;
-            self.warnings.warn(
-                loc,
-                "AreaLightSource \"diffuse\" with an image \"filename\" is not supported: the light emits its constant L",
-            )?;
-        }
+        // pbrt-v4's DiffuseAreaLight: an image `filename` replaces `L`; its
+        // RGB, read at the surface's (u, 1 − v) with bilinear interpolation,
+        // is the radiance (times `scale`).
+        let image = match params.string("filename")? {
+            None => None,
+            Some(name) => {
+                if params.get("L").is_some() {
+                    return Err(PbrtError::at(
+                        &param_loc(params, "L", loc),
+                        "AreaLightSource \"diffuse\": give either \"L\" or \"filename\", not both",
+                    ));
+                }
+                let at = param_loc(params, "filename", loc);
+                let path = self.resolve(name, &at);
+                Some(self.emission_image(&path, &at)?)
+            }
+        };
+        let l = self.light_color(params, "L", Color::ONE, loc)?;
         if self.photometric(params, "power", loc)?.is_some() {
             self.warnings.warn(
                 loc,
                 "AreaLightSource \"power\" is not supported (it depends on each shape's area): \"L\" and \"scale\" are used",
             )?;
         }
-        self.state.area_light = Some(AreaLightSpec { radiance: l, two_sided });
+        self.state.area_light = Some(AreaLightSpec { radiance: l, two_sided, image });
         Ok(())
     }
 }

@@ -92,6 +92,9 @@ pub(crate) struct AreaLightSpec {
     pub radiance: Color,
     /// Both sides emit.
     pub two_sided: bool,
+    /// An image over the surface's texture coordinates (`filename`),
+    /// multiplying `radiance`.
+    pub image: Option<crate::texture::Texture>,
 }
 
 /// pbrt-v4's graphics state (the part lucent uses).

@@ -148,7 +148,12 @@ impl Importer<'_> {
         // Meshes are oriented face by face above; other shapes emit from
         // their outside (normal side) unless ReverseOrientation is set.
         let reverse = reverse && !matches!(shape, Shape::Mesh(_));
-        let emission = area.as_ref().map(|a| Emission { radiance: a.radiance, two_sided: a.two_sided, reverse });
+        let emission = area.as_ref().map(|a| Emission {
+            radiance: a.radiance,
+            two_sided: a.two_sided,
+            reverse,
+            image: a.image.clone(),
+        });
         let mut primitive = Primitive::new(shape, transform, material);
         if let Some(alpha) = alpha {
             primitive = primitive.with_alpha(alpha);

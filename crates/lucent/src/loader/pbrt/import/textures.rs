@@ -82,6 +82,15 @@ impl Importer<'_> {
         Ok(mipmap)
     }
 
+    /// The image of an area light (`AreaLightSource "diffuse"` with a
+    /// `filename`): a bilinearly interpolated image over the surface's
+    /// texture coordinates, in the file's default encoding.
+    pub fn emission_image(&mut self, path: &Path, at: &Loc) -> Result<Texture, PbrtError> {
+        let mipmap = self.load_mipmap(path, ColorEncoding::pbrt_default_for(path), at)?;
+        let options = ImageTextureParams { filter: FilterFunction::Bilinear, ..ImageTextureParams::default() };
+        Ok(Texture::image(Arc::new(ImageTexture::new(TextureMapping::uv(1.0, 1.0, 0.0, 0.0), mipmap, options))))
+    }
+
     /// A tangent-space normal map (`normalmap`): the image read linearly.
     pub fn normal_map_texture(&mut self, path: &Path, at: &Loc) -> Result<Texture, PbrtError> {
         let mipmap = self.load_mipmap(path, ColorEncoding::Linear, at)?;
