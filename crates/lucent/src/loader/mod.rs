@@ -11,10 +11,12 @@
 
 mod build;
 mod description;
+mod export;
 mod locate;
 mod materials;
 mod objects;
 pub mod pbrt;
+mod textures;
 mod values;
 
 pub use description::*;
