@@ -488,3 +488,208 @@ impl TextureExport {
         Ok(self.path_name(&source.path))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::loader::textures::TextureTable;
+    use crate::loader::{SceneFile, SceneFormat};
+    use crate::material::{CoatedConductorMaterial, CoatedDiffuseMaterial, MaterialId};
+    use crate::texture::{ImageCache, ImageTexture};
+    use std::sync::Arc;
+
+    /// Export `materials`, write the scene as TOML, read it back and build
+    /// each material again; returns the TOML text and the rebuilt
+    /// materials in the same order.
+    fn round_trip(dir: &Path, materials: &[(String, Material)]) -> (String, Vec<Material>) {
+        let names: Vec<String> = materials.iter().map(|(n, _)| n.clone()).collect();
+        let mut export = TextureExport::new(dir);
+        let mut desc: SceneDescription =
+            toml::from_str("[camera]\neye = [0, 0, -5]\nlook_at = [0, 0, 0]\n").expect("a minimal scene");
+        for (name, m) in materials {
+            let d = export.material(m, &names).unwrap_or_else(|e| panic!("{name}: {e}"));
+            desc.materials.insert(name.clone(), d);
+        }
+        desc.textures = export.textures;
+        let text = toml::to_string(&desc).expect("serialises");
+        let file = SceneFile::parse(text.clone(), SceneFormat::Toml, Some(dir.join("scene.toml")))
+            .unwrap_or_else(|e| panic!("{e}\n{text}"));
+        let mut table = TextureTable::new(&file).unwrap_or_else(|e| panic!("{e}\n{text}"));
+        let ids: HashMap<String, MaterialId> =
+            names.iter().enumerate().map(|(i, n)| (n.clone(), MaterialId::new(i))).collect();
+        let rebuilt = names
+            .iter()
+            .map(|n| {
+                file.material(n, &file.description.materials[n], &mut table, &ids)
+                    .unwrap_or_else(|e| panic!("{n}: {e}\n{text}"))
+            })
+            .collect();
+        (text, rebuilt)
+    }
+
+    fn write_png(path: &Path, rgb: [u8; 3]) {
+        image::RgbImage::from_fn(4, 2, |x, y| image::Rgb([rgb[0] ^ (x as u8 * 40), rgb[1] ^ (y as u8 * 60), rgb[2]])).save(path).unwrap();
+    }
+
+    #[test]
+    fn every_material_kind_survives_a_toml_round_trip() {
+        let dir = tempfile::tempdir().unwrap();
+        let (wood, bumps) = (dir.path().join("wood.png"), dir.path().join("normals.png"));
+        write_png(&wood, [200, 120, 40]);
+        write_png(&bumps, [128, 128, 255]);
+        let cache = ImageCache::new();
+        let srgb = cache.mipmap(&wood, ColorEncoding::Srgb).unwrap();
+        let linear = cache.mipmap(&bumps, ColorEncoding::Linear).unwrap();
+        let params = ImageTextureParams {
+            filter: FilterFunction::Ewa,
+            max_anisotropy: 4.0,
+            wrap: WrapMode::Clamp,
+            scale: 0.5,
+            invert: true,
+        };
+        let image = Arc::new(ImageTexture::new(TextureMapping::uv(2.0, 3.0, 0.25, 0.0), srgb.clone(), params));
+        let moved = Transform::translate(Vec3::new(1.0, 2.0, 3.0));
+        let doubled = Transform::scale(Vec3::splat(2.0)).unwrap();
+        let sphere_image = Arc::new(ImageTexture::new(
+            TextureMapping::spherical(&moved),
+            // Gamma-encoded: the encoding is written out.
+            cache.mipmap(&wood, ColorEncoding::Gamma(2.2)).unwrap(),
+            ImageTextureParams::default(),
+        ));
+        let bilerp = FloatTexture::bilerp(TextureMapping::cylindrical(&doubled), 0.1, 0.2, 0.3, 0.4);
+        let planar = TextureMapping::planar(&moved, Vec3::new(0.5, 0.0, 0.0), Vec3::Z, 0.5, -0.25);
+        let board =
+            Texture::checkerboard(planar, Texture::Constant(Color::new(0.1, 0.2, 0.3)), Texture::Image(image.clone()));
+        let solid = FloatTexture::checkerboard_3d(&doubled, FloatTexture::Constant(0.2), FloatTexture::Image(image.clone()));
+        let normal_map = Texture::image(Arc::new(ImageTexture::new(
+            TextureMapping::default(),
+            linear,
+            ImageTextureParams::default(),
+        )));
+        let materials: Vec<(String, Material)> = vec![
+            ("matte".into(), Material::matte(Color::new(0.5, 0.2, 0.1), 0.8).unwrap().with_ka(0.3).unwrap()),
+            (
+                "phong".into(),
+                Material::phong(
+                    Texture::Checker { even: Color::ONE, odd: Color::new(0.0, 0.5, 0.0), scale: 0.25 },
+                    0.7,
+                    0.4,
+                    30.0,
+                    0.2,
+                )
+                .unwrap(),
+            ),
+            ("diffuse".into(), Material::Diffuse { reflectance: Texture::Image(image.clone()) }),
+            (
+                "conductor".into(),
+                Material::Conductor {
+                    fresnel: ConductorFresnel::Complex {
+                        eta: Texture::Scale { tex: Arc::new(Texture::Image(image.clone())), scale: Arc::new(bilerp.clone()) },
+                        k: Texture::Constant(Color::new(3.0, 2.5, 2.0)),
+                    },
+                    roughness: Roughness::anisotropic(0.1, FloatTexture::Image(image.clone()), true),
+                },
+            ),
+            (
+                "reflectance".into(),
+                Material::Conductor {
+                    fresnel: ConductorFresnel::Reflectance { r: Texture::Constant(Color::new(0.9, 0.5, 0.1)) },
+                    roughness: Roughness::alpha(0.2),
+                },
+            ),
+            (
+                "glass".into(),
+                Material::Dielectric { eta: 1.33, roughness: Roughness::isotropic(0.3, true), tint: Color::new(1.0, 0.9, 0.8) },
+            ),
+            ("plastic".into(), Material::Plastic { reflectance: board.clone(), eta: 1.4, roughness: 0.05 }),
+            ("pane".into(), Material::ThinDielectric { eta: 1.6 }),
+            (
+                "leaf".into(),
+                Material::DiffuseTransmission {
+                    reflectance: Texture::mix(Texture::Constant(Color::splat(0.2)), Texture::Image(sphere_image.clone()), solid.clone()),
+                    transmittance: Texture::Constant(Color::new(0.1, 0.4, 0.1)),
+                    scale: 0.9,
+                },
+            ),
+            (
+                "coated".into(),
+                Material::CoatedDiffuse(CoatedDiffuseMaterial {
+                    reflectance: Texture::direction_mix(Texture::Constant(Color::ONE), board, Vec3::Z, &Transform::IDENTITY).unwrap(),
+                    roughness: Roughness::anisotropic(0.2, 0.05, false),
+                    thickness: bilerp.clone(),
+                    eta: 1.7,
+                    albedo: Texture::Constant(Color::splat(0.3)),
+                    g: FloatTexture::Constant(-0.4),
+                    max_depth: 5,
+                    n_samples: 3,
+                }),
+            ),
+            (
+                "coated_metal".into(),
+                Material::CoatedConductor(CoatedConductorMaterial {
+                    conductor: ConductorFresnel::Schlick { r0: Texture::Image(sphere_image) },
+                    conductor_roughness: Roughness::isotropic(solid, true),
+                    ..Default::default()
+                }),
+            ),
+            (
+                "coated_copper".into(),
+                Material::CoatedConductor(CoatedConductorMaterial::default()),
+            ),
+            (
+                "mix".into(),
+                Material::Mix {
+                    materials: [MaterialId::new(0), MaterialId::new(2)],
+                    amount: FloatTexture::DirectionMix {
+                        tex1: Arc::new(FloatTexture::Constant(0.0)),
+                        tex2: Arc::new(bilerp),
+                        dir: Vec3::Y,
+                    },
+                },
+            ),
+            ("medium".into(), Material::Interface),
+            (
+                "bumpy".into(),
+                Material::Diffuse { reflectance: Texture::Constant(Color::splat(0.5)) }
+                    .with_bump(FloatTexture::Scale {
+                        tex: Arc::new(FloatTexture::Image(image.clone())),
+                        scale: Arc::new(FloatTexture::Constant(0.01)),
+                    })
+                    .with_normal_map(normal_map.clone()),
+            ),
+            ("normal_mapped".into(), Material::Plastic { reflectance: Color::ONE.into(), eta: 1.5, roughness: 0.0 }.with_normal_map(normal_map)),
+        ];
+        let (text, rebuilt) = round_trip(dir.path(), &materials);
+        for ((name, original), again) in materials.iter().zip(&rebuilt) {
+            assert_eq!(original, again, "material \"{name}\" changed in the round trip:\n{text}");
+        }
+        // The image files are named relative to the scene, the encoding
+        // only when it is not the file type's default; the image used
+        // three times (colour, number, scaled) is one table.
+        assert!(text.contains("file = \"wood.png\""), "{text}");
+        assert!(text.contains("encoding = \"gamma 2.2\""), "{text}");
+        assert!(text.contains("normal_map = \"normals.png\""), "{text}");
+        assert_eq!(text.matches("filter = \"ewa\"").count(), 1, "{text}");
+        // Constants are inline.
+        assert!(text.contains("k = [3.0, 2.5, 2.0]"), "{text}");
+        // The rebuilt image textures share one pyramid per file and
+        // encoding and remember their file.
+        let Material::Diffuse { reflectance: Texture::Image(a) } = &rebuilt[2] else { panic!() };
+        assert_eq!(a.source(), Some(std::fs::canonicalize(&wood).unwrap().as_path()));
+    }
+
+    #[test]
+    fn images_made_in_memory_cannot_be_written() {
+        let pixels = crate::texture::TextureImage::new(1, 1, 3, vec![0.5, 0.5, 0.5]).unwrap();
+        let mipmap = Arc::new(crate::texture::MipMap::new(pixels).unwrap());
+        let t = Texture::image(Arc::new(ImageTexture::new(TextureMapping::default(), mipmap, Default::default())));
+        let mut export = TextureExport::new(Path::new("."));
+        let e = export.material(&Material::Diffuse { reflectance: t }, &[]).unwrap_err();
+        assert!(e.contains("made in memory") && e.contains("cannot be written"), "{e}");
+        assert!(export.textures.is_empty());
+        // A mix naming a material outside the list.
+        let mix = Material::Mix { materials: [MaterialId::new(0), MaterialId::new(5)], amount: 0.5.into() };
+        let e = export.material(&mix, &["a".to_owned()]).unwrap_err();
+        assert!(e.contains("#5"), "{e}");
+    }
+}
