@@ -117,10 +117,14 @@ impl<'a> TextureTable<'a> {
             files: Vec::new(),
         };
         table.check_graph()?;
-        for (name, t) in &file.description.textures {
-            if let TextureDesc::Image(_) = t {
-                table.image(name).map_err(|e| table.error(name, e))?;
-            }
+        // Build every texture once, as a colour (which every valid texture
+        // can be: numbers are greys), so that mistakes in unused textures
+        // are found too and image files are read up front.
+        for name in file.description.textures.keys() {
+            table.color_named(name, "").map_err(|e| {
+                let e = if e.starts_with("texture \"") { e } else { format!("texture \"{name}\": {e}") };
+                file.error(table.at(name), e)
+            })?;
         }
         Ok(table)
     }
@@ -135,7 +139,7 @@ impl<'a> TextureTable<'a> {
             .or_else(|| find_key(&self.file.source, name, 0))
     }
 
-    fn error(&self, name: &str, message: String) -> SceneError {
+    fn error(&self, name: &str, message: impl std::fmt::Display) -> SceneError {
         self.file.error(self.at(name), format!("texture \"{name}\": {message}"))
     }
 
@@ -190,6 +194,10 @@ impl<'a> TextureTable<'a> {
 
     /// The image texture of the `image` table `name`.
     fn image(&mut self, name: &str) -> Result<Arc<ImageTexture>, String> {
+        self.read_image(name).map_err(|e| format!("texture \"{name}\": {e}"))
+    }
+
+    fn read_image(&mut self, name: &str) -> Result<Arc<ImageTexture>, String> {
         if let Some(t) = self.image_textures.get(name) {
             return Ok(Arc::clone(t));
         }
