@@ -355,3 +355,19 @@ fn json_has_the_same_structure() {
     assert_eq!(c.g, FloatTexture::Constant(0.5));
     assert_eq!(c.reflectance, Texture::Constant(Color::new(0.2, 0.3, 0.4)));
 }
+
+#[test]
+fn the_documented_material_and_texture_examples_parse() {
+    let doc = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/scene-format.md")).unwrap();
+    let start = doc.find("## 5. Materials").unwrap();
+    let end = doc.find("## 6. Lights").unwrap();
+    let mut n = 0;
+    for block in doc[start..end].split("```toml\n").skip(1) {
+        let block = &block[..block.find("```").unwrap()];
+        let text = format!("{CAMERA}{block}");
+        lucent::loader::SceneFile::parse(text.clone(), SceneFormat::Toml, None)
+            .unwrap_or_else(|e| panic!("{e}\n{text}"));
+        n += 1;
+    }
+    assert!(n >= 4, "{n} examples");
+}
