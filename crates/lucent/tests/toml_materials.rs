@@ -239,10 +239,7 @@ fn normal_maps_are_read_linearly() {
 
 #[test]
 fn old_keys_keep_their_meaning() {
-    let loaded = scene(&format!(
-        "[materials.m.conductor]\ncolor = [0.9, 0.8, 0.2]\nroughness = 0.3\n{}",
-        sphere("m")
-    ));
+    let loaded = scene(&format!("[materials.m.conductor]\ncolor = [0.9, 0.8, 0.2]\nroughness = 0.3\n{}", sphere("m")));
     assert_eq!(
         first_material(&loaded),
         &Material::Conductor {
@@ -358,7 +355,8 @@ fn json_has_the_same_structure() {
 
 #[test]
 fn the_documented_material_and_texture_examples_parse() {
-    let doc = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/scene-format.md")).unwrap();
+    let doc =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/scene-format.md")).unwrap();
     let start = doc.find("## 5. Materials").unwrap();
     let end = doc.find("## 6. Lights").unwrap();
     let mut n = 0;

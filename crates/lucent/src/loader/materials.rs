@@ -3,12 +3,12 @@
 
 use super::description::*;
 use super::locate::*;
+use super::textures::TextureTable;
 use super::values::*;
 use super::SceneFile;
 use crate::bsdf::ConductorFresnel;
 use crate::color::Color;
 use crate::geometry::Vec3;
-use super::textures::TextureTable;
 use crate::material::{
     CoatedConductorMaterial, CoatedDiffuseMaterial, Material, MaterialId, Roughness, COPPER_ETA, COPPER_K,
 };
@@ -51,16 +51,15 @@ impl SceneFile {
         tex: &mut TextureTable,
         ids: &HashMap<String, MaterialId>,
     ) -> Result<Result<Material, crate::material::MaterialError>, String> {
-        let color = |tex: &mut TextureTable, color: &Option<TexValue>, checker: &Option<CheckerDesc>| match (
-            color, checker,
-        ) {
-            (Some(_), Some(_)) => Err("has both `color` and `checker`; give one".to_owned()),
-            (Some(c), None) => tex.color(c, "color"),
-            (None, Some(ch)) => {
-                Ok(Texture::Checker { even: ch.even.into(), odd: ch.odd.into(), scale: ch.scale.get() })
-            }
-            (None, None) => Ok(Texture::Constant(Color::ONE)),
-        };
+        let color =
+            |tex: &mut TextureTable, color: &Option<TexValue>, checker: &Option<CheckerDesc>| match (color, checker) {
+                (Some(_), Some(_)) => Err("has both `color` and `checker`; give one".to_owned()),
+                (Some(c), None) => tex.color(c, "color"),
+                (None, Some(ch)) => {
+                    Ok(Texture::Checker { even: ch.even.into(), odd: ch.odd.into(), scale: ch.scale.get() })
+                }
+                (None, None) => Ok(Texture::Constant(Color::ONE)),
+            };
         let opt_color = |tex: &mut TextureTable, v: &Option<TexValue>, key: &str, default: Color| match v {
             Some(v) => tex.color(v, key),
             None => Ok(Texture::Constant(default)),
@@ -123,7 +122,7 @@ impl SceneFile {
                      n_samples: Option<u32>| {
             let thickness = opt_float(tex, thickness, "thickness", 0.01)?;
             if let FloatTexture::Constant(t) = thickness {
-                if !(t > 0.0) {
+                if t.is_nan() || t <= 0.0 {
                     return Err(format!("`thickness` must be > 0, got {t}"));
                 }
             }
@@ -177,7 +176,9 @@ impl SceneFile {
                 eta: p.eta.map_or(1.5, Positive::get),
                 roughness: p.roughness.map_or(0.0, NonNegative::get),
             }),
-            MaterialKindDesc::ThinDielectric(t) => Ok(Material::ThinDielectric { eta: t.eta.map_or(1.5, Positive::get) }),
+            MaterialKindDesc::ThinDielectric(t) => {
+                Ok(Material::ThinDielectric { eta: t.eta.map_or(1.5, Positive::get) })
+            }
             MaterialKindDesc::DiffuseTransmission(d) => Ok(Material::DiffuseTransmission {
                 reflectance: opt_color(tex, &d.reflectance, "reflectance", Color::splat(0.25))?,
                 transmittance: opt_color(tex, &d.transmittance, "transmittance", Color::splat(0.25))?,

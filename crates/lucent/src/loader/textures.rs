@@ -17,8 +17,8 @@ use crate::color::Color;
 use crate::geometry::{Transform, Vec3};
 use crate::scene::{SceneError, SourceLocation};
 use crate::texture::{
-    ColorEncoding, FilterFunction, FloatTexture, ImageCache, ImageTexture, ImageTextureParams, Texture,
-    TextureMapping, WrapMode,
+    ColorEncoding, FilterFunction, FloatTexture, ImageCache, ImageTexture, ImageTextureParams, Texture, TextureMapping,
+    WrapMode,
 };
 use glam::Mat4;
 use std::collections::HashMap;
@@ -41,7 +41,9 @@ fn references(t: &TextureDesc) -> Vec<(&'static str, &str)> {
     let keyed: Vec<(&'static str, Option<&TexValue>)> = match t {
         TextureDesc::Image(_) | TextureDesc::Checker(_) => Vec::new(),
         TextureDesc::Scale(s) => vec![("tex", s.tex.as_ref()), ("scale", s.scale.as_ref())],
-        TextureDesc::Mix(m) => vec![("tex1", m.tex1.as_ref()), ("tex2", m.tex2.as_ref()), ("amount", m.amount.as_ref())],
+        TextureDesc::Mix(m) => {
+            vec![("tex1", m.tex1.as_ref()), ("tex2", m.tex2.as_ref()), ("amount", m.amount.as_ref())]
+        }
         TextureDesc::DirectionMix(m) => vec![("tex1", m.tex1.as_ref()), ("tex2", m.tex2.as_ref())],
         TextureDesc::Checkerboard(c) => vec![("tex1", c.tex1.as_ref()), ("tex2", c.tex2.as_ref())],
         TextureDesc::Bilerp(b) => {
@@ -82,7 +84,9 @@ fn mapping(m: &Option<MappingDesc>) -> Result<TextureMapping, String> {
     let f = |v: Option<Finite>, d: f32| v.map_or(d, Finite::get);
     Ok(match m {
         None => TextureMapping::default(),
-        Some(MappingDesc::Uv { su, sv, du, dv }) => TextureMapping::uv(f(*su, 1.0), f(*sv, 1.0), f(*du, 0.0), f(*dv, 0.0)),
+        Some(MappingDesc::Uv { su, sv, du, dv }) => {
+            TextureMapping::uv(f(*su, 1.0), f(*sv, 1.0), f(*du, 0.0), f(*dv, 0.0))
+        }
         Some(MappingDesc::Spherical { transform }) => TextureMapping::spherical(&transform_of(transform)?),
         Some(MappingDesc::Cylindrical { transform }) => TextureMapping::cylindrical(&transform_of(transform)?),
         Some(MappingDesc::Planar { transform, v1, v2, du, dv }) => TextureMapping::planar(
@@ -99,8 +103,9 @@ fn mapping(m: &Option<MappingDesc>) -> Result<TextureMapping, String> {
 pub(super) fn encoding(s: &str) -> Result<ColorEncoding, String> {
     match s {
         "srgb" | "sRGB" => Ok(ColorEncoding::Srgb),
-        _ => ColorEncoding::parse(s)
-            .map_err(|_| format!("unknown encoding \"{s}\": expected \"srgb\", \"linear\" or \"gamma G\" (e.g. \"gamma 2.2\")")),
+        _ => ColorEncoding::parse(s).map_err(|_| {
+            format!("unknown encoding \"{s}\": expected \"srgb\", \"linear\" or \"gamma G\" (e.g. \"gamma 2.2\")")
+        }),
     }
 }
 
@@ -243,7 +248,10 @@ impl<'a> TextureTable<'a> {
         Ok(match v {
             TexValue::Number(x) => FloatTexture::Constant(*x),
             TexValue::Rgb(c) => {
-                return Err(format!("`{what}` is a number or a texture name, not a colour [{}, {}, {}]", c[0], c[1], c[2]))
+                return Err(format!(
+                    "`{what}` is a number or a texture name, not a colour [{}, {}, {}]",
+                    c[0], c[1], c[2]
+                ))
             }
             TexValue::Name(n) => (*self.float_named(n, what)?).clone(),
         })
@@ -308,13 +316,17 @@ impl<'a> TextureTable<'a> {
                         None => Color::splat(d),
                         Some(TexValue::Number(x)) => Color::splat(*x),
                         Some(TexValue::Rgb(c)) => Color::from_array(*c),
-                        Some(TexValue::Name(_)) => return Err(format!("{}: a corner is a number or a colour, not a texture", inner(key))),
+                        Some(TexValue::Name(_)) => {
+                            return Err(format!("{}: a corner is a number or a colour, not a texture", inner(key)))
+                        }
                     };
                 }
                 Texture::bilerp(m, v[0], v[1], v[2], v[3])
             }
             TextureDesc::Constant(c) => self.color(&c.value, &inner("value"))?,
-            TextureDesc::Checker(c) => Texture::Checker { even: c.even.into(), odd: c.odd.into(), scale: c.scale.get() },
+            TextureDesc::Checker(c) => {
+                Texture::Checker { even: c.even.into(), odd: c.odd.into(), scale: c.scale.get() }
+            }
         };
         let t = Arc::new(t);
         self.colors.insert(name.to_owned(), Arc::clone(&t));

@@ -304,7 +304,6 @@ pub struct ConstantTextureDesc {
     pub value: TexValue,
 }
 
-
 /// A texture: `[textures.NAME.KIND]` with one kind.
 #[derive(Clone, Debug, Serialize)]
 #[serde(rename_all = "snake_case")]

@@ -16,6 +16,7 @@
 
 use crate::bsdf::ConductorFresnel;
 use crate::color::Color;
+use crate::geometry::{Transform, Vec3};
 use crate::loader::description::*;
 use crate::loader::values::*;
 use crate::material::{Material, NormalPerturbation, Roughness};
@@ -23,7 +24,6 @@ use crate::texture::{
     Checkerboard, CheckerboardMapping, ColorEncoding, FilterFunction, FloatTexture, ImageTexture, ImageTextureParams,
     Texture, TextureMapping, WrapMode,
 };
-use crate::geometry::{Transform, Vec3};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
@@ -145,9 +145,10 @@ impl TextureExport {
 
     /// The table of an image texture.
     fn image(&mut self, im: &ImageTexture) -> Result<TexValue, String> {
-        let source = im.mipmap().source().ok_or(
-            "an image texture made in memory (not read from a file) cannot be written to a scene file",
-        )?;
+        let source = im
+            .mipmap()
+            .source()
+            .ok_or("an image texture made in memory (not read from a file) cannot be written to a scene file")?;
         let ImageTextureParams { filter, max_anisotropy, wrap, scale, invert } = *im.params();
         let desc = ImageTextureDesc {
             file: self.path_name(&source.path),
@@ -158,7 +159,11 @@ impl TextureExport {
                 FilterFunction::Trilinear => Some(FilterFunctionDesc::Trilinear),
                 FilterFunction::Ewa => Some(FilterFunctionDesc::Ewa),
             },
-            max_anisotropy: if max_anisotropy == 8.0 { None } else { Some(positive(max_anisotropy, "max_anisotropy")?) },
+            max_anisotropy: if max_anisotropy == 8.0 {
+                None
+            } else {
+                Some(positive(max_anisotropy, "max_anisotropy")?)
+            },
             wrap: match wrap {
                 WrapMode::Repeat => None,
                 WrapMode::Clamp => Some(WrapDesc::Clamp),
@@ -461,7 +466,10 @@ impl TextureExport {
                         .cloned()
                         .ok_or_else(|| format!("mix: material #{} has no name", materials[i].index()))
                 };
-                MaterialKindDesc::Mix(MixMaterialDesc { materials: [name(0)?, name(1)?], amount: Some(self.float(amount)?) })
+                MaterialKindDesc::Mix(MixMaterialDesc {
+                    materials: [name(0)?, name(1)?],
+                    amount: Some(self.float(amount)?),
+                })
             }
             Material::Interface => MaterialKindDesc::Interface(InterfaceDesc {}),
             Material::Shaded { .. } => unreachable!("unwrapped above"),
@@ -528,7 +536,9 @@ mod tests {
     }
 
     fn write_png(path: &Path, rgb: [u8; 3]) {
-        image::RgbImage::from_fn(4, 2, |x, y| image::Rgb([rgb[0] ^ (x as u8 * 40), rgb[1] ^ (y as u8 * 60), rgb[2]])).save(path).unwrap();
+        image::RgbImage::from_fn(4, 2, |x, y| image::Rgb([rgb[0] ^ (x as u8 * 40), rgb[1] ^ (y as u8 * 60), rgb[2]]))
+            .save(path)
+            .unwrap();
     }
 
     #[test]
@@ -560,7 +570,8 @@ mod tests {
         let planar = TextureMapping::planar(&moved, Vec3::new(0.5, 0.0, 0.0), Vec3::Z, 0.5, -0.25);
         let board =
             Texture::checkerboard(planar, Texture::Constant(Color::new(0.1, 0.2, 0.3)), Texture::Image(image.clone()));
-        let solid = FloatTexture::checkerboard_3d(&doubled, FloatTexture::Constant(0.2), FloatTexture::Image(image.clone()));
+        let solid =
+            FloatTexture::checkerboard_3d(&doubled, FloatTexture::Constant(0.2), FloatTexture::Image(image.clone()));
         let normal_map = Texture::image(Arc::new(ImageTexture::new(
             TextureMapping::default(),
             linear,
@@ -584,7 +595,10 @@ mod tests {
                 "conductor".into(),
                 Material::Conductor {
                     fresnel: ConductorFresnel::Complex {
-                        eta: Texture::Scale { tex: Arc::new(Texture::Image(image.clone())), scale: Arc::new(bilerp.clone()) },
+                        eta: Texture::Scale {
+                            tex: Arc::new(Texture::Image(image.clone())),
+                            scale: Arc::new(bilerp.clone()),
+                        },
                         k: Texture::Constant(Color::new(3.0, 2.5, 2.0)),
                     },
                     roughness: Roughness::anisotropic(0.1, FloatTexture::Image(image.clone()), true),
@@ -599,14 +613,22 @@ mod tests {
             ),
             (
                 "glass".into(),
-                Material::Dielectric { eta: 1.33, roughness: Roughness::isotropic(0.3, true), tint: Color::new(1.0, 0.9, 0.8) },
+                Material::Dielectric {
+                    eta: 1.33,
+                    roughness: Roughness::isotropic(0.3, true),
+                    tint: Color::new(1.0, 0.9, 0.8),
+                },
             ),
             ("plastic".into(), Material::Plastic { reflectance: board.clone(), eta: 1.4, roughness: 0.05 }),
             ("pane".into(), Material::ThinDielectric { eta: 1.6 }),
             (
                 "leaf".into(),
                 Material::DiffuseTransmission {
-                    reflectance: Texture::mix(Texture::Constant(Color::splat(0.2)), Texture::Image(sphere_image.clone()), solid.clone()),
+                    reflectance: Texture::mix(
+                        Texture::Constant(Color::splat(0.2)),
+                        Texture::Image(sphere_image.clone()),
+                        solid.clone(),
+                    ),
                     transmittance: Texture::Constant(Color::new(0.1, 0.4, 0.1)),
                     scale: 0.9,
                 },
@@ -614,7 +636,13 @@ mod tests {
             (
                 "coated".into(),
                 Material::CoatedDiffuse(CoatedDiffuseMaterial {
-                    reflectance: Texture::direction_mix(Texture::Constant(Color::ONE), board, Vec3::Z, &Transform::IDENTITY).unwrap(),
+                    reflectance: Texture::direction_mix(
+                        Texture::Constant(Color::ONE),
+                        board,
+                        Vec3::Z,
+                        &Transform::IDENTITY,
+                    )
+                    .unwrap(),
                     roughness: Roughness::anisotropic(0.2, 0.05, false),
                     thickness: bilerp.clone(),
                     eta: 1.7,
@@ -632,10 +660,7 @@ mod tests {
                     ..Default::default()
                 }),
             ),
-            (
-                "coated_copper".into(),
-                Material::CoatedConductor(CoatedConductorMaterial::default()),
-            ),
+            ("coated_copper".into(), Material::CoatedConductor(CoatedConductorMaterial::default())),
             (
                 "mix".into(),
                 Material::Mix {
@@ -657,7 +682,11 @@ mod tests {
                     })
                     .with_normal_map(normal_map.clone()),
             ),
-            ("normal_mapped".into(), Material::Plastic { reflectance: Color::ONE.into(), eta: 1.5, roughness: 0.0 }.with_normal_map(normal_map)),
+            (
+                "normal_mapped".into(),
+                Material::Plastic { reflectance: Color::ONE.into(), eta: 1.5, roughness: 0.0 }
+                    .with_normal_map(normal_map),
+            ),
         ];
         let (text, rebuilt) = round_trip(dir.path(), &materials);
         for ((name, original), again) in materials.iter().zip(&rebuilt) {
