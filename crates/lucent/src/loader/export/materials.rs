@@ -708,6 +708,51 @@ mod tests {
     }
 
     #[test]
+    fn a_pbrt_scene_exports_to_equal_materials() {
+        let dir = tempfile::tempdir().unwrap();
+        write_png(&dir.path().join("wood.png"), [90, 60, 30]);
+        write_png(&dir.path().join("n.png"), [128, 128, 255]);
+        let pbrt = r#"
+LookAt 0 0 5  0 0 0  0 1 0
+Camera "perspective" "float fov" 45
+WorldBegin
+Texture "wood" "spectrum" "imagemap" "string filename" "wood.png" "float uscale" 4 "string wrap" "clamp"
+Texture "woodf" "float" "imagemap" "string filename" "wood.png" "float uscale" 4 "string wrap" "clamp"
+Texture "checks" "spectrum" "checkerboard" "float uscale" 8 "texture tex1" "wood" "rgb tex2" [0.1 0.2 0.3]
+Texture "dim" "spectrum" "scale" "texture tex" "checks" "float scale" 0.5
+AttributeBegin
+  Translate 1 2 3
+  Texture "sky" "spectrum" "directionmix" "texture tex1" "dim" "rgb tex2" [0 0 1]
+  Texture "ball" "float" "imagemap" "string filename" "wood.png" "string mapping" "spherical"
+AttributeEnd
+Texture "blend" "float" "mix" "texture tex1" "woodf" "float tex2" 0.2 "texture amount" "ball"
+MakeNamedMaterial "a" "string type" "coateddiffuse" "texture reflectance" "sky" "texture roughness" "blend"
+MakeNamedMaterial "b" "string type" "coatedconductor" "rgb conductor.reflectance" [0.9 0.6 0.3] "float interface.roughness" 0.1
+MakeNamedMaterial "c" "string type" "conductor" "float uroughness" 0.1 "float vroughness" 0.3 "texture displacement" "woodf"
+MakeNamedMaterial "d" "string type" "mix" "string materials" ["a" "c"] "texture amount" "blend"
+MakeNamedMaterial "e" "string type" "diffuse" "string normalmap" "n.png"
+MakeNamedMaterial "f" "string type" "dielectric" "float eta" 1.33 "float roughness" 0.2
+MakeNamedMaterial "g" "string type" "thindielectric"
+MakeNamedMaterial "h" "string type" "diffusetransmission" "texture transmittance" "dim"
+MakeNamedMaterial "i" "string type" "interface"
+NamedMaterial "d"
+Shape "sphere"
+"#;
+        let path = dir.path().join("scene.pbrt");
+        std::fs::write(&path, pbrt).unwrap();
+        let loaded = crate::loader::pbrt::import_pbrt(&path, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
+        let materials: Vec<(String, Material)> =
+            loaded.scene.materials().iter().enumerate().map(|(i, m)| (format!("m{i}"), m.clone())).collect();
+        assert!(materials.len() >= 9, "{materials:?}");
+        let (text, rebuilt) = round_trip(dir.path(), &materials);
+        for ((name, original), again) in materials.iter().zip(&rebuilt) {
+            assert_eq!(original, again, "material \"{name}\" changed in the round trip:\n{text}");
+        }
+        // The colour and number views of one image share a table.
+        assert_eq!(text.matches("file = \"wood.png\"").count(), 2, "{text}");
+    }
+
+    #[test]
     fn images_made_in_memory_cannot_be_written() {
         let pixels = crate::texture::TextureImage::new(1, 1, 3, vec![0.5, 0.5, 0.5]).unwrap();
         let mipmap = Arc::new(crate::texture::MipMap::new(pixels).unwrap());
