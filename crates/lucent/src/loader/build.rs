@@ -5,12 +5,14 @@
 use super::description::*;
 use super::locate::*;
 use super::objects::{BuildContext, Place};
+use super::textures::TextureTable;
 use super::values::*;
 use super::{LoadedScene, SceneFile};
 use crate::color::Color;
 use crate::film::{check_image_size, Filter, ToneMap};
 use crate::geometry::Transform;
 use crate::light::{Environment, EnvironmentMapping, Falloff, Light, MapOptions};
+use crate::material::MaterialId;
 use crate::render::{IntegratorKind, RenderSettings};
 use crate::sampling::SamplerKind;
 use crate::scene::{SceneBuilder, SceneError};
@@ -46,20 +48,8 @@ impl SceneFile {
                 .map_err(|e| self.builder_error(e, "[ambient]", "intensity"))?;
         }
 
-        let mut ids = HashMap::new();
-        for (name, m) in &d.materials {
-            let material = self.material(name, m)?;
-            let id = scene.add_material(material).map_err(|e| {
-                let at = find_table(&self.source, name);
-                let at = if e.message.starts_with("roughness") {
-                    find_key_after(&self.source, "roughness", at).or(at)
-                } else {
-                    at
-                };
-                e.in_file(self.path.clone(), &self.source, at, &format!("material \"{name}\""))
-            })?;
-            ids.insert(name.clone(), id);
-        }
+        let mut textures = TextureTable::new(self)?;
+        let ids = self.add_materials(&mut scene, &mut textures)?;
         for (i, l) in d.point_light.iter().enumerate() {
             let falloff = falloff(l.falloff, Falloff::None);
             scene.add_light(Light::point(l.position.into(), l.color.into(), l.intensity.get(), falloff).map_err(
@@ -108,7 +98,7 @@ impl SceneFile {
             mesh: d.mesh.clone(),
             instance: d.instance.clone(),
         };
-        let mut ctx = BuildContext { ids, meshes: HashMap::new(), active_prototypes: Vec::new() };
+        let mut ctx = BuildContext { ids, meshes: HashMap::new(), active_prototypes: Vec::new(), textures };
         let place = Place { label: "", at: None, forced_material: None };
         self.add_group(&mut scene, &mut ctx, &root, Transform::IDENTITY, None, place)?;
         let scene = scene.build().map_err(|e| e.in_file(self.path.clone(), &self.source, None, ""))?;
@@ -116,9 +106,68 @@ impl SceneFile {
         if let Some(file) = d.environment.as_ref().and_then(|e| e.file.as_ref()) {
             files.push(self.relative(file));
         }
+        files.extend(ctx.textures.files.iter().cloned());
         files.sort();
         files.dedup();
         Ok(LoadedScene { scene, settings, files })
+    }
+
+    /// Add the `[materials]`, each after the materials a `mix` of it names
+    /// (a mix that contains itself is an error); the ids by name.
+    fn add_materials(
+        &self,
+        scene: &mut SceneBuilder,
+        textures: &mut TextureTable,
+    ) -> Result<HashMap<String, MaterialId>, SceneError> {
+        let materials = &self.description.materials;
+        let mut ids = HashMap::new();
+        let mut path: Vec<&str> = Vec::new();
+        // Depth first through `mix` references, with an explicit stack of
+        // (name, whether its dependencies are already pushed).
+        for root in materials.keys() {
+            let mut stack = vec![(root.as_str(), false)];
+            while let Some((name, expanded)) = stack.pop() {
+                if ids.contains_key(name) {
+                    continue;
+                }
+                let m = &materials[name];
+                if !expanded {
+                    if let Some(start) = path.iter().position(|&p| p == name) {
+                        let mut cycle: Vec<String> = path[start..].iter().map(|p| format!("\"{p}\"")).collect();
+                        cycle.push(format!("\"{name}\""));
+                        return Err(self.error(
+                            find_table(&self.source, name),
+                            format!("material \"{name}\" mixes itself ({})", cycle.join(" > ")),
+                        ));
+                    }
+                    stack.push((name, true));
+                    path.push(name);
+                    if let MaterialKindDesc::Mix(mix) = &m.kind {
+                        for other in mix.materials.iter().rev() {
+                            if let Some((k, _)) = materials.get_key_value(other) {
+                                if !ids.contains_key(k.as_str()) {
+                                    stack.push((k.as_str(), false));
+                                }
+                            }
+                        }
+                    }
+                    continue;
+                }
+                path.retain(|&p| p != name);
+                let material = self.material(name, m, textures, &ids)?;
+                let id = scene.add_material(material).map_err(|e| {
+                    let at = find_table(&self.source, name);
+                    let at = if e.message.starts_with("roughness") {
+                        find_key_after(&self.source, "roughness", at).or(at)
+                    } else {
+                        at
+                    };
+                    e.in_file(self.path.clone(), &self.source, at, &format!("material \"{name}\""))
+                })?;
+                ids.insert(name.to_owned(), id);
+            }
+        }
+        Ok(ids)
     }
 
     /// A path named in the file: relative to the file's directory.

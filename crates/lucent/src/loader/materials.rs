@@ -3,39 +3,152 @@
 
 use super::description::*;
 use super::locate::*;
+use super::textures::TextureTable;
 use super::values::*;
 use super::SceneFile;
 use crate::bsdf::ConductorFresnel;
 use crate::color::Color;
 use crate::geometry::Vec3;
-use crate::material::{Material, Roughness};
+use crate::material::{
+    CoatedConductorMaterial, CoatedDiffuseMaterial, Material, MaterialId, Roughness, COPPER_ETA, COPPER_K,
+};
 use crate::scene::SceneError;
-use crate::texture::Texture;
+use crate::texture::{ColorEncoding, FloatTexture, ImageTexture, ImageTextureParams, Texture, TextureMapping};
+use std::collections::HashMap;
+use std::sync::Arc;
 
 impl SceneFile {
-    pub(super) fn material(&self, name: &str, m: &MaterialDesc) -> Result<Material, SceneError> {
+    /// The material of `[materials.NAME]`, its textures resolved in `tex`
+    /// and the materials a `mix` names looked up in `ids` (added before).
+    pub(super) fn material(
+        &self,
+        name: &str,
+        m: &MaterialDesc,
+        tex: &mut TextureTable,
+        ids: &HashMap<String, MaterialId>,
+    ) -> Result<Material, SceneError> {
         let at = || find_table(&self.source, name);
-        let texture = |color: &Option<Rgb>, checker: &Option<CheckerDesc>| match (color, checker) {
-            (Some(_), Some(_)) => {
-                Err(self.error(at(), format!("material \"{name}\" has both `color` and `checker`; give one")))
-            }
-            (Some(c), None) => Ok(Texture::Constant((*c).into())),
-            (None, Some(ch)) => {
-                Ok(Texture::Checker { even: ch.even.into(), odd: ch.odd.into(), scale: ch.scale.get() })
-            }
-            (None, None) => Ok(Texture::Constant(Color::ONE)),
+        let fail = |e: String| self.error(at(), format!("material \"{name}\": {e}"));
+        let material = self.material_kind(&m.kind, tex, ids).map_err(fail)?;
+        let mut material = match material {
+            Ok(m) => m,
+            Err(e) => return Err(self.error(at(), format!("material \"{name}\": {e}"))),
         };
-        let m = match m {
-            MaterialDesc::Matte(m) => {
-                let mat = Material::matte(texture(&m.color, &m.checker)?, m.kd.get());
+        if let Some(d) = &m.displacement {
+            material = material.with_bump(tex.float(d, "displacement").map_err(fail)?);
+        }
+        if let Some(file) = &m.normal_map {
+            material = material.with_normal_map(normal_map(tex, file).map_err(fail)?);
+        }
+        Ok(material)
+    }
+
+    /// The material of one kind; the outer error is a message about a key,
+    /// the inner one the model's refusal.
+    fn material_kind(
+        &self,
+        m: &MaterialKindDesc,
+        tex: &mut TextureTable,
+        ids: &HashMap<String, MaterialId>,
+    ) -> Result<Result<Material, crate::material::MaterialError>, String> {
+        let color =
+            |tex: &mut TextureTable, color: &Option<TexValue>, checker: &Option<CheckerDesc>| match (color, checker) {
+                (Some(_), Some(_)) => Err("has both `color` and `checker`; give one".to_owned()),
+                (Some(c), None) => tex.color(c, "color"),
+                (None, Some(ch)) => {
+                    Ok(Texture::Checker { even: ch.even.into(), odd: ch.odd.into(), scale: ch.scale.get() })
+                }
+                (None, None) => Ok(Texture::Constant(Color::ONE)),
+            };
+        let opt_color = |tex: &mut TextureTable, v: &Option<TexValue>, key: &str, default: Color| match v {
+            Some(v) => tex.color(v, key),
+            None => Ok(Texture::Constant(default)),
+        };
+        let opt_float = |tex: &mut TextureTable, v: &Option<TexValue>, key: &str, default: f32| match v {
+            Some(v) => tex.float(v, key),
+            None => Ok(FloatTexture::Constant(default)),
+        };
+        let roughness = |tex: &mut TextureTable,
+                         prefix: &str,
+                         r: &Option<TexValue>,
+                         u: &Option<TexValue>,
+                         v: &Option<TexValue>,
+                         remap: bool| {
+            let r = opt_float(tex, r, &format!("{prefix}roughness"), 0.0)?;
+            let u = match u {
+                Some(u) => tex.float(u, &format!("{prefix}u_roughness"))?,
+                None => r.clone(),
+            };
+            let v = match v {
+                Some(v) => tex.float(v, &format!("{prefix}v_roughness"))?,
+                None => r,
+            };
+            Ok::<_, String>(Roughness::anisotropic(u, v, remap))
+        };
+        let fresnel = |tex: &mut TextureTable,
+                       prefix: &str,
+                       color: &Option<TexValue>,
+                       eta: &Option<TexValue>,
+                       k: &Option<TexValue>,
+                       reflectance: &Option<TexValue>,
+                       metal: Option<MetalDesc>,
+                       default: ConductorFresnel<Texture>| {
+            Ok::<_, String>(match (color, eta, k, reflectance, metal) {
+                (Some(c), None, None, None, None) => ConductorFresnel::Schlick { r0: tex.color(c, "color")? },
+                (None, Some(eta), Some(k), None, None) => ConductorFresnel::Complex {
+                    eta: tex.color(eta, &format!("{prefix}eta"))?,
+                    k: tex.color(k, &format!("{prefix}k"))?,
+                },
+                (None, None, None, Some(r), None) => {
+                    ConductorFresnel::Reflectance { r: tex.color(r, &format!("{prefix}reflectance"))? }
+                }
+                (None, None, None, None, Some(metal)) => {
+                    let (eta, k) = metal_ior(metal);
+                    ConductorFresnel::Complex { eta: eta.into(), k: k.into() }
+                }
+                (None, None, None, None, None) => default,
+                _ => {
+                    return Err(format!(
+                        "give one of `{prefix}color`, `{prefix}eta` with `{prefix}k`, or `metal` (or pbrt's `{prefix}reflectance`)"
+                    ))
+                }
+            })
+        };
+        let layer = |tex: &mut TextureTable,
+                     thickness: &Option<TexValue>,
+                     albedo: &Option<TexValue>,
+                     g: &Option<TexValue>,
+                     max_depth: Option<u32>,
+                     n_samples: Option<u32>| {
+            let thickness = opt_float(tex, thickness, "thickness", 0.01)?;
+            if let FloatTexture::Constant(t) = thickness {
+                if t.is_nan() || t <= 0.0 {
+                    return Err(format!("`thickness` must be > 0, got {t}"));
+                }
+            }
+            let g = opt_float(tex, g, "g", 0.0)?;
+            if let FloatTexture::Constant(g) = g {
+                if !(-1.0..=1.0).contains(&g) {
+                    return Err(format!("`g` must be from -1 to 1, got {g}"));
+                }
+            }
+            let (max_depth, n_samples) = (max_depth.unwrap_or(10), n_samples.unwrap_or(1));
+            if !(1..=1000).contains(&max_depth) || !(1..=1000).contains(&n_samples) {
+                return Err("`max_depth` and `n_samples` must be from 1 to 1000".to_owned());
+            }
+            Ok::<_, String>((thickness, opt_color(tex, albedo, "albedo", Color::ZERO)?, g, max_depth, n_samples))
+        };
+        Ok(match m {
+            MaterialKindDesc::Matte(m) => {
+                let mat = Material::matte(color(tex, &m.color, &m.checker)?, m.kd.get());
                 match m.ka {
                     Some(ka) => mat.and_then(|x| x.with_ka(ka.get())),
                     None => mat,
                 }
             }
-            MaterialDesc::Phong(p) => {
+            MaterialKindDesc::Phong(p) => {
                 let mat = Material::phong(
-                    texture(&p.color, &p.checker)?,
+                    color(tex, &p.color, &p.checker)?,
                     p.kd.get(),
                     p.ks.get(),
                     p.exponent.get(),
@@ -46,49 +159,108 @@ impl SceneFile {
                     None => mat,
                 }
             }
-            MaterialDesc::Diffuse(d) => {
-                let reflectance = texture(&d.color, &d.checker)?;
-                Ok(Material::Diffuse { reflectance })
-            }
-            MaterialDesc::Conductor(c) => {
-                let fresnel = match (c.color, c.eta, c.k, c.metal) {
-                    (Some(color), None, None, None) => {
-                        ConductorFresnel::Schlick { r0: Texture::Constant(color.into()) }
-                    }
-                    (None, Some(eta), Some(k), None) => {
-                        ConductorFresnel::Complex { eta: Texture::Constant(eta.into()), k: Texture::Constant(k.into()) }
-                    }
-                    (None, None, None, Some(metal)) => {
-                        let (eta, k) = metal_ior(metal);
-                        ConductorFresnel::Complex { eta: eta.into(), k: k.into() }
-                    }
-                    (None, None, None, None) => ConductorFresnel::Schlick { r0: Texture::Constant(Color::ONE) },
-                    _ => {
-                        return Err(self.error(
-                            at(),
-                            format!("material \"{name}\": give one of `color`, `eta` with `k`, or `metal`"),
-                        ))
-                    }
-                };
-                let roughness = Roughness::alpha(roughness(c.roughness));
+            MaterialKindDesc::Diffuse(d) => Ok(Material::Diffuse { reflectance: color(tex, &d.color, &d.checker)? }),
+            MaterialKindDesc::Conductor(c) => {
+                let white = ConductorFresnel::Schlick { r0: Texture::Constant(Color::ONE) };
+                let fresnel = fresnel(tex, "", &c.color, &c.eta, &c.k, &c.reflectance, c.metal, white)?;
+                let roughness = roughness(tex, "", &c.roughness, &c.u_roughness, &c.v_roughness, c.remap_roughness)?;
                 Ok(Material::Conductor { fresnel, roughness })
             }
-            MaterialDesc::Dielectric(d) => Ok(Material::Dielectric {
+            MaterialKindDesc::Dielectric(d) => Ok(Material::Dielectric {
                 eta: d.eta.map_or(1.5, Positive::get),
-                roughness: Roughness::alpha(roughness(d.roughness)),
+                roughness: roughness(tex, "", &d.roughness, &d.u_roughness, &d.v_roughness, d.remap_roughness)?,
                 tint: d.tint.map_or(Color::ONE, Color::from),
             }),
-            MaterialDesc::Plastic(p) => {
-                let reflectance = texture(&p.color, &p.checker)?;
-                Ok(Material::Plastic {
-                    reflectance,
-                    eta: p.eta.map_or(1.5, Positive::get),
-                    roughness: roughness(p.roughness),
-                })
+            MaterialKindDesc::Plastic(p) => Ok(Material::Plastic {
+                reflectance: color(tex, &p.color, &p.checker)?,
+                eta: p.eta.map_or(1.5, Positive::get),
+                roughness: p.roughness.map_or(0.0, NonNegative::get),
+            }),
+            MaterialKindDesc::ThinDielectric(t) => {
+                Ok(Material::ThinDielectric { eta: t.eta.map_or(1.5, Positive::get) })
             }
-        };
-        m.map_err(|e| self.error(at(), format!("material \"{name}\": {e}")))
+            MaterialKindDesc::DiffuseTransmission(d) => Ok(Material::DiffuseTransmission {
+                reflectance: opt_color(tex, &d.reflectance, "reflectance", Color::splat(0.25))?,
+                transmittance: opt_color(tex, &d.transmittance, "transmittance", Color::splat(0.25))?,
+                scale: d.scale.map_or(1.0, NonNegative::get),
+            }),
+            MaterialKindDesc::CoatedDiffuse(c) => {
+                let (thickness, albedo, g, max_depth, n_samples) =
+                    layer(tex, &c.thickness, &c.albedo, &c.g, c.max_depth, c.n_samples)?;
+                Ok(Material::CoatedDiffuse(CoatedDiffuseMaterial {
+                    reflectance: opt_color(tex, &c.reflectance, "reflectance", Color::splat(0.5))?,
+                    roughness: roughness(tex, "", &c.roughness, &c.u_roughness, &c.v_roughness, c.remap_roughness)?,
+                    thickness,
+                    eta: c.eta.map_or(1.5, Positive::get),
+                    albedo,
+                    g,
+                    max_depth,
+                    n_samples,
+                }))
+            }
+            MaterialKindDesc::CoatedConductor(c) => {
+                let (thickness, albedo, g, max_depth, n_samples) =
+                    layer(tex, &c.thickness, &c.albedo, &c.g, c.max_depth, c.n_samples)?;
+                let copper =
+                    ConductorFresnel::Complex { eta: Texture::Constant(COPPER_ETA), k: Texture::Constant(COPPER_K) };
+                let remap = c.remap_roughness;
+                Ok(Material::CoatedConductor(CoatedConductorMaterial {
+                    interface_roughness: roughness(
+                        tex,
+                        "interface_",
+                        &c.interface_roughness,
+                        &c.interface_u_roughness,
+                        &c.interface_v_roughness,
+                        remap,
+                    )?,
+                    interface_eta: c.interface_eta.map_or(1.5, Positive::get),
+                    conductor: fresnel(
+                        tex,
+                        "conductor_",
+                        &c.conductor_color,
+                        &c.conductor_eta,
+                        &c.conductor_k,
+                        &c.conductor_reflectance,
+                        c.metal,
+                        copper,
+                    )?,
+                    conductor_roughness: roughness(
+                        tex,
+                        "conductor_",
+                        &c.conductor_roughness,
+                        &c.conductor_u_roughness,
+                        &c.conductor_v_roughness,
+                        remap,
+                    )?,
+                    thickness,
+                    albedo,
+                    g,
+                    max_depth,
+                    n_samples,
+                }))
+            }
+            MaterialKindDesc::Mix(m) => {
+                let mut materials = [MaterialId::new(0); 2];
+                for (slot, other) in materials.iter_mut().zip(&m.materials) {
+                    *slot = *ids.get(other).ok_or_else(|| {
+                        let known: Vec<&str> = self.description.materials.keys().map(String::as_str).collect();
+                        format!("`materials`: no material named \"{other}\" is defined (defined: {})", known.join(", "))
+                    })?;
+                }
+                let amount = opt_float(tex, &m.amount, "amount", 0.5)?;
+                Ok(Material::Mix { materials, amount })
+            }
+            MaterialKindDesc::Interface(_) => Ok(Material::Interface),
+        })
     }
+}
+
+/// A tangent-space normal map read from `file` (linear, `(u, v)` mapping,
+/// pbrt-v4's defaults otherwise), as pbrt-v4's `normalmap` parameter.
+fn normal_map(tex: &mut TextureTable, file: &str) -> Result<Texture, String> {
+    let mipmap = tex.mipmap(file, ColorEncoding::Linear).map_err(|e| format!("`normal_map`: {e}"))?;
+    let image = ImageTexture::new(TextureMapping::default(), mipmap, ImageTextureParams::default());
+    Ok(Texture::image(Arc::new(image)))
 }
 
 /// A scene material for one of a mesh file's own materials (OBJ's MTL):
@@ -101,16 +273,11 @@ pub(super) fn material_from_file(m: &crate::mesh::MeshMaterial) -> Material {
     material.unwrap_or_else(|_| Material::matte(Color::splat(0.8), 1.0).expect("valid constants"))
 }
 
-/// A GGX roughness (its range is checked by the scene builder).
-fn roughness(r: Option<NonNegative>) -> f32 {
-    r.map_or(0.0, NonNegative::get)
-}
-
 /// Complex indices of refraction of the named metals at 650, 550 and
 /// 450 nm (red, green, blue), from the measurements tabulated at
 /// refractiveindex.info: Johnson & Christy 1972 (gold, silver, copper) and
 /// Rakić 1995 (aluminium).
-fn metal_ior(metal: MetalDesc) -> (Color, Color) {
+pub(super) fn metal_ior(metal: MetalDesc) -> (Color, Color) {
     let (eta, k) = match metal {
         MetalDesc::Gold => ([0.166, 0.424, 1.316], [3.150, 2.380, 1.863]),
         MetalDesc::Silver => ([0.144, 0.120, 0.135], [4.243, 3.341, 2.484]),

@@ -17,6 +17,7 @@ mod locate;
 mod materials;
 mod objects;
 pub mod pbrt;
+mod textures;
 mod values;
 
 pub use description::*;

@@ -4,6 +4,7 @@
 use super::description::*;
 use super::locate::*;
 use super::materials::material_from_file;
+use super::textures::TextureTable;
 use super::values::*;
 use super::SceneFile;
 use crate::geometry::{Mat4, Transform, Vec3};
@@ -19,7 +20,7 @@ impl SceneFile {
     pub(super) fn add_group(
         &self,
         scene: &mut SceneBuilder,
-        ctx: &mut BuildContext,
+        ctx: &mut BuildContext<'_>,
         group: &GroupDesc,
         parent: Transform,
         parent_material: Option<&str>,
@@ -33,13 +34,13 @@ impl SceneFile {
         // located at the top-level table that holds them.
         let locate =
             |kind: &str, index: usize| if label.is_empty() { nth_table(&self.source, kind, index) } else { group_at };
-        let resolve = |ctx: &BuildContext, what: &str, own: Option<&str>, at| -> Result<MaterialId, SceneError> {
+        let resolve = |ctx: &BuildContext<'_>, what: &str, own: Option<&str>, at| -> Result<MaterialId, SceneError> {
             let name = forced_material.or(own).or(material).ok_or_else(|| {
                 self.error(at, format!("{what} has no material (set `material`, or one on its group)"))
             })?;
             self.material_id(ctx, what, name)
         };
-        let add = |ctx: &mut BuildContext,
+        let add = |ctx: &mut BuildContext<'_>,
                    obj: Object<'_>,
                    shape: Result<Shape, crate::shapes::ShapeError>,
                    scene: &mut SceneBuilder|
@@ -49,7 +50,8 @@ impl SceneFile {
             let shape = shape.map_err(|e| self.error(at, format!("{what}: {e}")))?;
             let id = resolve(ctx, &what, obj.material.as_deref(), at)?;
             let t = self.transform(obj.transform, &what, at)?.then(&group_transform);
-            self.place(scene, Primitive::new(shape, t, id), obj.emission, &what, at)
+            let primitive = self.with_alpha(ctx, Primitive::new(shape, t, id), obj.alpha, &what, at)?;
+            self.place(scene, ctx, primitive, obj.emission, &what, at)
         };
         for (i, s) in group.sphere.iter().enumerate() {
             let r = s.radius.get();
@@ -65,38 +67,38 @@ impl SceneFile {
             } else {
                 Sphere::new(s.center.into(), r)
             };
-            let keys = EmissionKeys::of(s.emission, s.two_sided, s.reverse_orientation);
-            let obj = Object::new("sphere", i, &s.name, &s.material, &transform, keys);
+            let keys = EmissionKeys::of(s.emission, s.two_sided, s.reverse_orientation, &s.emission_texture);
+            let obj = Object::new("sphere", i, &s.name, &s.material, &transform, &s.alpha, keys);
             add(ctx, obj, shape.map(Shape::from), scene)?;
         }
         for (i, d) in group.disk.iter().enumerate() {
             let phi = d.phi_max.map_or(360.0, Finite::get);
             let shape = Disk::new(d.height.get(), d.radius.get(), d.inner_radius.get(), phi).map(Shape::from);
-            let keys = EmissionKeys::of(d.emission, d.two_sided, d.reverse_orientation);
-            add(ctx, Object::new("disk", i, &d.name, &d.material, &d.transform, keys), shape, scene)?;
+            let keys = EmissionKeys::of(d.emission, d.two_sided, d.reverse_orientation, &d.emission_texture);
+            add(ctx, Object::new("disk", i, &d.name, &d.material, &d.transform, &d.alpha, keys), shape, scene)?;
         }
         for (i, c) in group.cylinder.iter().enumerate() {
             let phi = c.phi_max.map_or(360.0, Finite::get);
             let shape = Cylinder::new(c.radius.get(), c.z_min.get(), c.z_max.get(), phi).map(Shape::from);
-            let keys = EmissionKeys::of(c.emission, c.two_sided, c.reverse_orientation);
-            add(ctx, Object::new("cylinder", i, &c.name, &c.material, &c.transform, keys), shape, scene)?;
+            let keys = EmissionKeys::of(c.emission, c.two_sided, c.reverse_orientation, &c.emission_texture);
+            add(ctx, Object::new("cylinder", i, &c.name, &c.material, &c.transform, &c.alpha, keys), shape, scene)?;
         }
         for (i, p) in group.plane.iter().enumerate() {
             let shape = Plane::new(p.point.into(), p.normal.into()).map(Shape::from);
             let keys = EmissionKeys::default();
-            add(ctx, Object::new("plane", i, &p.name, &p.material, &p.transform, keys), shape, scene)?;
+            add(ctx, Object::new("plane", i, &p.name, &p.material, &p.transform, &p.alpha, keys), shape, scene)?;
         }
         for (i, t) in group.triangle.iter().enumerate() {
             let v = t.vertices.map(Vec3::from);
             let n = t.normals.map(|n| n.map(Vec3::from));
             let shape = Triangle::new(v, n).map(Shape::from);
-            let keys = EmissionKeys::of(t.emission, t.two_sided, t.reverse_orientation);
-            let obj = Object::new("triangle", i, &t.name, &t.material, &t.transform, keys);
+            let keys = EmissionKeys::of(t.emission, t.two_sided, t.reverse_orientation, &t.emission_texture);
+            let obj = Object::new("triangle", i, &t.name, &t.material, &t.transform, &t.alpha, keys);
             add(ctx, obj, shape, scene)?;
         }
         for (i, q) in group.quad.iter().enumerate() {
-            let keys = EmissionKeys::of(q.emission, q.two_sided, q.reverse_orientation);
-            let obj = Object::new("quad", i, &q.name, &q.material, &q.transform, keys);
+            let keys = EmissionKeys::of(q.emission, q.two_sided, q.reverse_orientation, &q.emission_texture);
+            let obj = Object::new("quad", i, &q.name, &q.material, &q.transform, &q.alpha, keys);
             match quad_triangles(q.vertices.map(Vec3::from)) {
                 Ok([a, b]) => {
                     add(ctx, obj, Ok(a), scene)?;
@@ -123,8 +125,9 @@ impl SceneFile {
                 }
                 _ => Primitive::new(Shape::Mesh(mesh), t, resolve(ctx, &what, m.material.as_deref(), at)?),
             };
-            let keys = EmissionKeys::of(m.emission, m.two_sided, m.reverse_orientation);
-            self.place(scene, primitive, keys, &what, at)?;
+            let primitive = self.with_alpha(ctx, primitive, &m.alpha, &what, at)?;
+            let keys = EmissionKeys::of(m.emission, m.two_sided, m.reverse_orientation, &m.emission_texture);
+            self.place(scene, ctx, primitive, keys, &what, at)?;
         }
         for (i, g) in group.group.iter().enumerate() {
             let child_label = describe(label, "group", i, &g.name);
@@ -162,16 +165,32 @@ impl SceneFile {
     fn place(
         &self,
         scene: &mut SceneBuilder,
+        ctx: &mut BuildContext<'_>,
         primitive: Primitive,
-        keys: EmissionKeys,
+        keys: EmissionKeys<'_>,
         what: &str,
         at: Option<SourceLocation>,
     ) -> Result<(), SceneError> {
-        let EmissionKeys { emission, two_sided, reverse } = keys;
+        let EmissionKeys { emission, two_sided, reverse, texture } = keys;
         let emission = match emission {
-            Some(radiance) => Some(Emission { radiance: radiance.into(), two_sided, reverse, image: None }),
-            None if two_sided || reverse => {
-                let key = if two_sided { "two_sided" } else { "reverse_orientation" };
+            Some(radiance) => {
+                let image = match texture {
+                    Some(name) => Some(
+                        ctx.textures
+                            .color_named(name, what)
+                            .map(|t| (*t).clone())
+                            .map_err(|e| self.error(find_value(&self.source, "emission_texture", name).or(at), e))?,
+                    ),
+                    None => None,
+                };
+                Some(Emission { radiance: radiance.into(), two_sided, reverse, image })
+            }
+            None if two_sided || reverse || texture.is_some() => {
+                let key = match (two_sided, reverse) {
+                    (true, _) => "two_sided",
+                    (_, true) => "reverse_orientation",
+                    _ => "emission_texture",
+                };
                 return Err(self.error(at, format!("{what}: `{key}` applies only with `emission`")));
             }
             None => None,
@@ -181,7 +200,27 @@ impl SceneFile {
         Ok(())
     }
 
-    fn material_id(&self, ctx: &BuildContext, what: &str, name: &str) -> Result<MaterialId, SceneError> {
+    /// `primitive` with the cut-out of an `alpha` key, if given.
+    fn with_alpha(
+        &self,
+        ctx: &mut BuildContext<'_>,
+        primitive: Primitive,
+        alpha: &Option<TexValue>,
+        what: &str,
+        at: Option<SourceLocation>,
+    ) -> Result<Primitive, SceneError> {
+        let Some(alpha) = alpha else { return Ok(primitive) };
+        let texture = ctx.textures.float(alpha, &format!("{what}: alpha")).map_err(|e| {
+            let at = match alpha {
+                TexValue::Name(name) => find_value(&self.source, "alpha", name).or(at),
+                _ => find_key_after(&self.source, "alpha", at).or(at),
+            };
+            self.error(at, e)
+        })?;
+        Ok(primitive.with_alpha(texture))
+    }
+
+    fn material_id(&self, ctx: &BuildContext<'_>, what: &str, name: &str) -> Result<MaterialId, SceneError> {
         ctx.ids.get(name).copied().ok_or_else(|| {
             let mut known: Vec<&str> = ctx.ids.keys().map(String::as_str).filter(|k| !k.contains(':')).collect();
             known.sort_unstable();
@@ -198,7 +237,7 @@ impl SceneFile {
     fn mesh(
         &self,
         scene: &mut SceneBuilder,
-        ctx: &mut BuildContext,
+        ctx: &mut BuildContext<'_>,
         m: &MeshDesc,
         what: &str,
         at: Option<SourceLocation>,
@@ -328,20 +367,22 @@ struct Object<'a> {
     name: &'a Option<String>,
     material: &'a Option<String>,
     transform: &'a [TransformOp],
-    emission: EmissionKeys,
+    alpha: &'a Option<TexValue>,
+    emission: EmissionKeys<'a>,
 }
 
 /// The emission keys of an object.
 #[derive(Clone, Copy, Default)]
-pub(super) struct EmissionKeys {
+pub(super) struct EmissionKeys<'a> {
     emission: Option<Rgb>,
     two_sided: bool,
     reverse: bool,
+    texture: Option<&'a str>,
 }
 
-impl EmissionKeys {
-    fn of(emission: Option<Rgb>, two_sided: bool, reverse: bool) -> Self {
-        Self { emission, two_sided, reverse }
+impl<'a> EmissionKeys<'a> {
+    fn of(emission: Option<Rgb>, two_sided: bool, reverse: bool, texture: &'a Option<String>) -> Self {
+        Self { emission, two_sided, reverse, texture: texture.as_deref() }
     }
 }
 
@@ -352,9 +393,10 @@ impl<'a> Object<'a> {
         name: &'a Option<String>,
         material: &'a Option<String>,
         transform: &'a [TransformOp],
-        emission: EmissionKeys,
+        alpha: &'a Option<TexValue>,
+        emission: EmissionKeys<'a>,
     ) -> Self {
-        Self { kind, index, name, material, transform, emission }
+        Self { kind, index, name, material, transform, alpha, emission }
     }
 }
 
@@ -370,7 +412,7 @@ fn quad_triangles(v: [Vec3; 4]) -> Result<[Shape; 2], crate::shapes::ShapeError>
 pub(super) type LoadedMesh = (Arc<Mesh>, Option<Arc<[MaterialId]>>);
 
 /// State carried through the walk over groups and prototypes.
-pub(super) struct BuildContext {
+pub(super) struct BuildContext<'a> {
     /// Material names (scene materials, and `FILE:NAME` for a mesh file's
     /// own) to scene handles.
     pub(super) ids: HashMap<String, MaterialId>,
@@ -379,6 +421,8 @@ pub(super) struct BuildContext {
     pub(super) meshes: HashMap<(PathBuf, NormalsDesc, DefaultUvDesc), LoadedMesh>,
     /// Prototypes being expanded, to refuse one that contains itself.
     pub(super) active_prototypes: Vec<String>,
+    /// The `[textures]`, for `alpha` and `emission_texture`.
+    pub(super) textures: TextureTable<'a>,
 }
 
 fn describe(parent: &str, kind: &str, index: usize, name: &Option<String>) -> String {

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 use super::image::{read_image, ColorEncoding, ImageError};
-use super::mipmap::MipMap;
+use super::mipmap::{ImageSource, MipMap};
 
 /// The cache's table: a MIP map per (canonical path, encoding key).
 type MipMaps = HashMap<(PathBuf, (u8, u32)), Arc<MipMap>>;
@@ -36,7 +36,8 @@ impl ImageCache {
             return Ok(Arc::clone(m));
         }
         let image = read_image(path, encoding)?;
-        let map = Arc::new(MipMap::new(image).map_err(|m| ImageError::new(path, m))?);
+        let source = ImageSource { path: key.0.clone(), encoding };
+        let map = Arc::new(MipMap::new(image).map_err(|m| ImageError::new(path, m))?.with_source(source));
         Ok(Arc::clone(self.lock().entry(key).or_insert(map)))
     }
 
@@ -72,6 +73,9 @@ mod tests {
         let b = cache.mipmap(&again, ColorEncoding::Srgb).unwrap();
         assert!(Arc::ptr_eq(&a, &b));
         assert_eq!(cache.len(), 1);
+        // It remembers where it came from, canonically.
+        let src = a.source().unwrap();
+        assert_eq!((src.path.clone(), src.encoding), (std::fs::canonicalize(&p).unwrap(), ColorEncoding::Srgb));
         assert_eq!(a.levels(), 3);
         assert!((a.level(0).unwrap().data()[0] - 0.2158605).abs() < 1e-6);
         // Another encoding is another map.

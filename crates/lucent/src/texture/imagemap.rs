@@ -81,6 +81,13 @@ impl ImageTexture {
         &self.mipmap
     }
 
+    /// The image file this texture reads, if it was read from one (through
+    /// an [`ImageCache`](super::ImageCache)); `None` for an image made in
+    /// memory.
+    pub fn source(&self) -> Option<&std::path::Path> {
+        self.mipmap.source().map(|s| s.path.as_path())
+    }
+
     /// The lookup parameters.
     pub fn params(&self) -> &ImageTextureParams {
         &self.params

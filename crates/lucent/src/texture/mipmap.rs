@@ -23,7 +23,9 @@
 
 use std::ops::{Add, Mul};
 
-use super::image::TextureImage;
+use std::path::PathBuf;
+
+use super::image::{ColorEncoding, TextureImage};
 use crate::color::Color;
 use crate::geometry::Vec2;
 
@@ -145,11 +147,32 @@ impl Default for MipFilterOptions {
     }
 }
 
+/// Where a MIP map's image came from: the file (canonical path) and the
+/// colour encoding it was decoded with. Kept so that a scene can be written
+/// back out (the TOML exporter names the file instead of the pixels).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImageSource {
+    /// The image file, canonical (absolute, links resolved).
+    pub path: PathBuf,
+    /// How its 8-bit values were decoded.
+    pub encoding: ColorEncoding,
+}
+
 /// An image pyramid: level 0 is the image, each further level half the size
 /// (rounded down, at least 1) of the one before, down to 1 × 1.
-#[derive(Clone, PartialEq)]
+///
+/// Two MIP maps are equal when their pixels are; where they were read from
+/// ([`MipMap::source`]) does not count.
+#[derive(Clone)]
 pub struct MipMap {
     levels: Vec<TextureImage>,
+    source: Option<ImageSource>,
+}
+
+impl PartialEq for MipMap {
+    fn eq(&self, other: &Self) -> bool {
+        self.levels == other.levels
+    }
 }
 
 impl std::fmt::Debug for MipMap {
@@ -228,7 +251,20 @@ impl MipMap {
             let next = downsample(last)?;
             levels.push(next);
         }
-        Ok(Self { levels })
+        Ok(Self { levels, source: None })
+    }
+
+    /// The same pyramid, remembering that it was read from `source` (the
+    /// [`ImageCache`](super::ImageCache) sets this).
+    pub fn with_source(mut self, source: ImageSource) -> Self {
+        self.source = Some(source);
+        self
+    }
+
+    /// The file and encoding the image was read from; `None` for an image
+    /// made in memory.
+    pub fn source(&self) -> Option<&ImageSource> {
+        self.source.as_ref()
     }
 
     /// Number of levels: `1 + ⌊log2 max(w, h)⌋`.

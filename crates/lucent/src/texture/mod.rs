@@ -42,7 +42,7 @@ pub use self::image::{read_image, read_pfm, ColorEncoding, ImageError, TextureIm
 pub use cache::ImageCache;
 pub use imagemap::{ImageTexture, ImageTextureParams};
 pub use mapping::{TexCoord2D, TextureMapping};
-pub use mipmap::{FilterFunction, MipFilterOptions, MipMap, TexelValue, WrapMode};
+pub use mipmap::{FilterFunction, ImageSource, MipFilterOptions, MipMap, TexelValue, WrapMode};
 
 use crate::color::Color;
 use crate::geometry::{Transform, Vec2, Vec3};

@@ -6,11 +6,13 @@ mod lights;
 mod materials;
 mod objects;
 mod settings;
+mod textures;
 
 pub use lights::*;
 pub use materials::*;
 pub use objects::*;
 pub use settings::*;
+pub use textures::*;
 
 use super::values::*;
 use serde::{Deserialize, Serialize};
@@ -31,6 +33,10 @@ pub struct SceneDescription {
     /// Ambient light.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ambient: Option<AmbientDesc>,
+    /// Named textures, referred to by name from texture-valued material
+    /// parameters and from other textures.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub textures: BTreeMap<String, TextureDesc>,
     /// Named materials.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub materials: BTreeMap<String, MaterialDesc>,

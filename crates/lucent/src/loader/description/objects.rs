@@ -2,6 +2,7 @@
 //! transforms.
 
 use super::super::values::*;
+use super::TexValue;
 use super::{default_up, positive_one};
 use serde::{de::Error as _, Deserialize, Deserializer, Serialize};
 
@@ -22,12 +23,16 @@ macro_rules! object {
             /// Object transform.
             #[serde(default, skip_serializing_if = "Vec::is_empty")]
             pub transform: Vec<TransformOp>,
+            /// Alpha cut-out: a number or a texture; where it is 0 the
+            /// surface does not exist, for camera and shadow rays alike.
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub alpha: Option<TexValue>,
         }
     };
 }
 
 /// [`object!`] for a surface that may emit light: adds `emission`,
-/// `two_sided` and `reverse_orientation`.
+/// `two_sided`, `reverse_orientation` and `emission_texture`.
 macro_rules! emissive_object {
     ($(#[$doc:meta])* pub struct $name:ident { $($(#[$fdoc:meta])* pub $field:ident: $ty:ty,)* }) => {
         object! {
@@ -46,6 +51,11 @@ macro_rules! emissive_object {
                 /// default false).
                 #[serde(default, skip_serializing_if = "std::ops::Not::not")]
                 pub reverse_orientation: bool,
+                /// A colour texture (a name under `[textures]`) that
+                /// multiplies `emission` over the surface, by its texture
+                /// coordinates.
+                #[serde(default, skip_serializing_if = "Option::is_none")]
+                pub emission_texture: Option<String>,
             }
         }
     };

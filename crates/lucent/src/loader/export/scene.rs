@@ -142,6 +142,7 @@ pub(crate) fn describe(
         material_names: (0..scene.materials().len()).map(|i| format!("material-{i}")).collect(),
         d: SceneDescription {
             camera: camera(scene),
+            textures: BTreeMap::new(),
             render: render(scene, &loaded.settings),
             environment: None,
             ambient: None,
@@ -180,7 +181,17 @@ pub(crate) fn describe(
         out.primitive(scene, p).map_err(|why| ExportError::Unsupported { what: format!("primitive #{i}"), why })?;
     }
     out.d.meshes = out.mesh_files;
+    out.d.textures = out.textures.textures;
     Ok((out.d, out.meshes))
+}
+
+/// The emission keys of an exported object.
+#[derive(Default)]
+struct EmissionKeys {
+    emission: Option<Rgb>,
+    two_sided: bool,
+    reverse_orientation: bool,
+    emission_texture: Option<String>,
 }
 
 struct Describer {
@@ -382,19 +393,39 @@ impl Describer {
         }
     }
 
-    /// The emission keys of face `face` of `p`: radiance, two-sided,
-    /// reversed.
-    fn emission(scene: &Scene, p: &Primitive, face: u32) -> (Option<Rgb>, bool, bool) {
-        match p.face_area_light(face).and_then(|i| scene.area_lights().get(i as usize)) {
-            Some(l) => (Some(rgb(l.radiance)), l.two_sided, l.reverse && !l.two_sided),
-            None => (None, false, false),
-        }
+    /// The emission keys of face `face` of `p`.
+    fn emission(&mut self, scene: &Scene, p: &Primitive, face: u32) -> Result<EmissionKeys, String> {
+        let Some(l) = p.face_area_light(face).and_then(|i| scene.area_lights().get(i as usize)) else {
+            return Ok(EmissionKeys::default());
+        };
+        let mut radiance = l.radiance;
+        let texture = match &l.image {
+            None => None,
+            Some(image) => match self.textures.color(&image.texture)? {
+                TexValue::Name(name) => Some(name),
+                TexValue::Rgb(c) => {
+                    radiance *= Color::from_array(c);
+                    None
+                }
+                TexValue::Number(x) => {
+                    radiance *= x;
+                    None
+                }
+            },
+        };
+        Ok(EmissionKeys {
+            emission: Some(rgb(radiance)),
+            two_sided: l.two_sided,
+            reverse_orientation: l.reverse && !l.two_sided,
+            emission_texture: texture,
+        })
     }
 
     fn primitive(&mut self, scene: &Scene, p: &Primitive) -> Result<(), String> {
         let material = Some(self.material_names[p.material().index()].clone());
         let transform = transform_ops(&p.transform());
-        let (emission, two_sided, reverse_orientation) = Self::emission(scene, p, 0);
+        let EmissionKeys { emission, two_sided, reverse_orientation, emission_texture } = self.emission(scene, p, 0)?;
+        let alpha = p.alpha().map(|a| self.textures.float(a)).transpose()?;
         match p.shape() {
             Shape::Sphere(s) => {
                 let (center, z_min, z_max, phi_max) = match s.clipping() {
@@ -415,6 +446,8 @@ impl Describer {
                     emission,
                     two_sided,
                     reverse_orientation,
+                    emission_texture,
+                    alpha,
                 });
             }
             Shape::Plane(pl) => self.d.plane.push(PlaneDesc {
@@ -423,6 +456,7 @@ impl Describer {
                 normal: Direction(pl.normal().to_array()),
                 material,
                 transform,
+                alpha,
             }),
             Shape::Triangle(t) => self.d.triangle.push(TriangleDesc {
                 name: None,
@@ -433,6 +467,8 @@ impl Describer {
                 emission,
                 two_sided,
                 reverse_orientation,
+                emission_texture,
+                alpha,
             }),
             Shape::Disk(disk) => self.d.disk.push(DiskDesc {
                 name: None,
@@ -445,6 +481,8 @@ impl Describer {
                 emission,
                 two_sided,
                 reverse_orientation,
+                emission_texture,
+                alpha,
             }),
             Shape::Cylinder(c) => {
                 let (z_min, z_max) = c.z_range();
@@ -459,6 +497,8 @@ impl Describer {
                     emission,
                     two_sided,
                     reverse_orientation,
+                    emission_texture,
+                    alpha,
                 })
             }
             Shape::Mesh(mesh) if p.face_materials().is_some() => self.split_mesh(scene, p, mesh)?,
@@ -475,6 +515,8 @@ impl Describer {
                     emission,
                     two_sided,
                     reverse_orientation,
+                    emission_texture,
+                    alpha,
                 });
             }
         }
@@ -490,6 +532,7 @@ impl Describer {
         }
         let data = mesh.to_triangle_mesh();
         let transform = transform_ops(&p.transform());
+        let alpha = p.alpha().map(|a| self.textures.float(a)).transpose()?;
         for (face, tri) in data.indices.iter().enumerate() {
             let face = face as u32;
             let vertices = tri.map(|i| data.positions[i as usize]);
@@ -497,7 +540,8 @@ impl Describer {
                 continue; // zero-area: skipped by the mesh too
             }
             let normals = data.normals.as_ref().map(|ns| tri.map(|i| Direction(ns[i as usize].to_array())));
-            let (emission, two_sided, reverse_orientation) = Self::emission(scene, p, face);
+            let EmissionKeys { emission, two_sided, reverse_orientation, emission_texture } =
+                self.emission(scene, p, face)?;
             self.d.triangle.push(TriangleDesc {
                 name: None,
                 vertices: vertices.map(v3),
@@ -507,6 +551,8 @@ impl Describer {
                 emission,
                 two_sided,
                 reverse_orientation,
+                emission_texture,
+                alpha: alpha.clone(),
             });
         }
         Ok(())
