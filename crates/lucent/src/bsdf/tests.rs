@@ -454,6 +454,50 @@ fn pdf_and_f_agree_with_sample_f() {
     }
 }
 
+/// The near-specular copper plates of Veach's MIS scene (α 0.01 to 0.25,
+/// pbrt-v4's `remaproughness false`): the pdf that MIS evaluates for a
+/// light-sampled direction is the density `sample_f` drew it with, and the
+/// sample weight is exactly `f·cos θi / pdf = F(wo·wm) · G(wo, wi) / G1(wo)`
+/// (visible-normal sampling: `D` and the cosines cancel, Heitz 2018, §2;
+/// PBRT 4th ed., eq. 9.28 with 9.33), so it never exceeds `F` however
+/// narrow the lobe: BSDF sampling of these plates cannot make fireflies.
+#[test]
+fn near_specular_conductor_weights_are_fresnel_times_masking() {
+    let (eta, k) = (Color::new(0.200438, 0.924033, 1.102212), Color::new(3.912949, 2.452848, 2.142188));
+    let mut rng = Pcg32::new(23, 7);
+    for alpha in [0.01f32, 0.05, 0.1, 0.25] {
+        let b = Bxdf::conductor(eta, k, alpha);
+        let distrib = TrowbridgeReitz::new(alpha);
+        let fresnel = ConductorFresnel::Complex { eta, k };
+        let mut checked = 0;
+        for i in 0..20_000 {
+            // Both sides (the conductor is two-sided), from head-on to grazing.
+            let cos_o = (1.0 - rng.uniform()).max(0.02) * if i % 2 == 0 { 1.0 } else { -1.0 };
+            let wo = wo_at(cos_o, 2.0 * std::f32::consts::PI * rng.uniform());
+            let Some(s) = b.sample_f(wo, rng.uniform(), Vec2::new(rng.uniform(), rng.uniform())) else { continue };
+            assert!(!s.specular && s.pdf > 0.0, "α {alpha}");
+            let pdf = b.pdf(wo, s.wi);
+            assert!(rel_err(pdf, s.pdf) < 2e-3, "α {alpha}: wo {wo} wi {} pdf {pdf} vs sampled {}", s.wi, s.pdf);
+            // The upper-side configuration of the two-sided lobe.
+            let flip = |w: Vec3| if wo.z < 0.0 { Vec3::new(w.x, w.y, -w.z) } else { w };
+            let (wo_u, wi_u) = (flip(wo), flip(s.wi));
+            let wm = (wo_u + wi_u).normalize();
+            let want = fresnel.eval(wo_u.dot(wm)) * (distrib.g(wo_u, wi_u) / distrib.g1(wo_u));
+            let got = s.f * (s.wi.z.abs() / s.pdf);
+            for c in 0..3 {
+                assert!(
+                    rel_err(got[c], want[c]) < 2e-3,
+                    "α {alpha}: wo {wo} wi {} weight {got} vs F·G/G1 {want}",
+                    s.wi
+                );
+                assert!(got[c] <= fresnel.eval(wo_u.dot(wm))[c] * (1.0 + 1e-4), "α {alpha}: weight {got} above F");
+            }
+            checked += 1;
+        }
+        assert!(checked > 15_000, "α {alpha}: only {checked} samples");
+    }
+}
+
 #[test]
 fn delta_lobes_have_no_density() {
     let mut rng = Pcg32::new(12, 5);
