@@ -116,10 +116,10 @@ impl TextureExport {
         Self { textures: BTreeMap::new(), out_dir, by_desc: HashMap::new() }
     }
 
-    /// A path as written: relative to the output directory when below it.
+    /// A path as written: relative to the output directory when the two
+    /// share a directory, else absolute.
     fn path_name(&self, path: &Path) -> String {
-        let p = path.strip_prefix(&self.out_dir).unwrap_or(path);
-        p.to_string_lossy().into_owned()
+        super::relative_path(path, &self.out_dir)
     }
 
     /// The name of a texture table equal to `desc`, added if new; `hint`

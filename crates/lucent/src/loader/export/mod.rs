@@ -8,4 +8,5 @@ mod materials;
 mod scene;
 
 pub(crate) use materials::*;
-pub use scene::*;
+pub(crate) use scene::relative_path;
+pub use scene::{export_scene, ExportError, ExportSummary};

@@ -581,16 +581,19 @@ impl Describer {
     }
 }
 
-/// `path` relative to `dir` when one is inside the other's tree (by
-/// components, after making both absolute), else absolute; with `/`
+/// `path` as a scene file in `dir` names it: relative to `dir` when the
+/// two share a directory below the root (comparing their canonical forms,
+/// or absolute forms for paths that do not exist), else absolute; with `/`
 /// separators.
 pub(crate) fn relative_path(path: &Path, dir: &Path) -> String {
-    let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_owned());
-    let (path, dir) = (abs(path), abs(dir));
+    let full = |p: &Path| std::fs::canonicalize(p).or_else(|_| std::path::absolute(p)).unwrap_or_else(|_| p.to_owned());
+    let (path, dir) = (full(path), full(dir));
     let p: Vec<_> = path.components().collect();
     let d: Vec<_> = dir.components().collect();
     let common = p.iter().zip(&d).take_while(|(a, b)| a == b).count();
-    if common == 0 {
+    // The root (and, on Windows, the drive) alone is not a shared directory.
+    let root = p.iter().take_while(|c| !matches!(c, std::path::Component::Normal(_))).count();
+    if common <= root {
         return path.to_string_lossy().into_owned();
     }
     let mut parts: Vec<String> = vec!["..".to_owned(); d.len() - common];
