@@ -17,6 +17,9 @@ pub enum TransformError {
     /// An entry is infinite or NaN.
     #[error("the transform has a non-finite entry")]
     NonFinite,
+    /// A given inverse is not the matrix's inverse.
+    #[error("the inverse given is not the inverse of the matrix (their product differs from the identity by {0:e})")]
+    WrongInverse(f32),
 }
 
 /// An invertible affine transform, stored with its inverse (the pair `M`,
@@ -68,6 +71,29 @@ impl Transform {
         let m_inv = m.inverse();
         if !m_inv.is_finite() {
             return Err(TransformError::Singular(det));
+        }
+        Ok(Self { m, m_inv })
+    }
+
+    /// A transform from a matrix and its inverse, both given: what a scene
+    /// file that stored a transform exactly reads back, bit for bit (an
+    /// inverse computed again from the matrix may differ in the last bits).
+    /// The matrix is checked as by [`Transform::from_matrix`], and the
+    /// inverse must agree with the computed one to single precision:
+    /// every entry of `M · M⁻¹ − I` at most 10⁻⁴ (relative to the entries'
+    /// magnitude).
+    pub fn from_matrix_and_inverse(m: Mat4, m_inv: Mat4) -> Result<Self, TransformError> {
+        Self::from_matrix(m)?;
+        if !m_inv.is_finite() {
+            return Err(TransformError::NonFinite);
+        }
+        if m_inv.row(3) != Vec4::new(0.0, 0.0, 0.0, 1.0) {
+            return Err(TransformError::NotAffine);
+        }
+        let size = |a: &Mat4| a.to_cols_array().iter().fold(0.0f32, |x, v| x.max(v.abs()));
+        let error = size(&(m * m_inv - Mat4::IDENTITY));
+        if !(error <= 1e-4 * (size(&m) * size(&m_inv)).max(1.0)) {
+            return Err(TransformError::WrongInverse(error));
         }
         Ok(Self { m, m_inv })
     }

@@ -7,7 +7,7 @@ use super::materials::material_from_file;
 use super::textures::TextureTable;
 use super::values::*;
 use super::SceneFile;
-use crate::geometry::{Mat4, Transform, Vec3};
+use crate::geometry::{Transform, Vec3};
 use crate::material::MaterialId;
 use crate::primitive::Primitive;
 use crate::scene::{Emission, SceneBuilder, SceneError, SourceLocation};
@@ -329,15 +329,7 @@ impl SceneFile {
     ) -> Result<Transform, SceneError> {
         let mut t = Transform::IDENTITY;
         for op in ops {
-            let step = match op {
-                TransformOp::Translate(v) => Ok(Transform::translate((*v).into())),
-                TransformOp::Scale(v) => Transform::scale((*v).into()),
-                TransformOp::RotateX(a) => Ok(Transform::rotate_x(a.get())),
-                TransformOp::RotateY(a) => Ok(Transform::rotate_y(a.get())),
-                TransformOp::RotateZ(a) => Ok(Transform::rotate_z(a.get())),
-                TransformOp::Rotate(aa) => Transform::rotate(aa.axis.into(), aa.angle.get()),
-                TransformOp::Matrix(rows) => Transform::from_matrix(Mat4::from_cols_array_2d(rows).transpose()),
-            };
+            let step = op.to_transform();
             let step = step.map_err(|e| {
                 let what = if what.is_empty() { "transform".to_owned() } else { format!("{what}: transform") };
                 self.error(at, format!("{what}: {}", transform_error_message(&e)))

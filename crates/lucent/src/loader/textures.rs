@@ -20,7 +20,6 @@ use crate::texture::{
     ColorEncoding, FilterFunction, FloatTexture, ImageCache, ImageTexture, ImageTextureParams, Texture, TextureMapping,
     WrapMode,
 };
-use glam::Mat4;
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -65,15 +64,7 @@ fn references(t: &TextureDesc) -> Vec<(&'static str, &str)> {
 pub(super) fn transform_of(ops: &[TransformOp]) -> Result<Transform, String> {
     let mut t = Transform::IDENTITY;
     for op in ops {
-        let step = match op {
-            TransformOp::Translate(v) => Ok(Transform::translate((*v).into())),
-            TransformOp::Scale(v) => Transform::scale((*v).into()),
-            TransformOp::RotateX(a) => Ok(Transform::rotate_x(a.get())),
-            TransformOp::RotateY(a) => Ok(Transform::rotate_y(a.get())),
-            TransformOp::RotateZ(a) => Ok(Transform::rotate_z(a.get())),
-            TransformOp::Rotate(aa) => Transform::rotate(aa.axis.into(), aa.angle.get()),
-            TransformOp::Matrix(rows) => Transform::from_matrix(Mat4::from_cols_array_2d(rows).transpose()),
-        };
+        let step = op.to_transform();
         t = t.then(&step.map_err(|e| format!("transform: {}", transform_error_message(&e)))?);
     }
     Ok(t)

@@ -202,19 +202,25 @@ pub(crate) fn vec_with_capacity<T>(n: usize, what: &str, path: &Path) -> Result<
     Ok(v)
 }
 
-/// Normalizes loaded normals in place; `None` when one of them is zero or
-/// not finite (the caller then computes its own, e.g. with
-/// [`TriangleMesh::compute_smooth_normals`]).
+/// `v` scaled to unit length; `None` for a zero or non-finite vector. A
+/// vector already of unit length to rounding (|v|² within 4 ε of 1) is
+/// returned as it is, so that normalising is idempotent: normals written to
+/// a file and read back keep every bit.
+pub(crate) fn unit_normal(v: Vec3) -> Option<Vec3> {
+    let len_sq = v.length_squared();
+    if (len_sq - 1.0).abs() <= 4.0 * f32::EPSILON {
+        return Some(v);
+    }
+    let n = v / len_sq.sqrt();
+    (len_sq.is_finite() && len_sq > 0.0 && n.is_finite()).then_some(n)
+}
+
+/// Normalizes loaded normals in place ([`unit_normal`]); `None` when one
+/// of them is zero or not finite (the caller then computes its own, e.g.
+/// with [`TriangleMesh::compute_smooth_normals`]).
 fn normalized_normals(mut normals: Vec<Vec3>) -> Option<Vec<Vec3>> {
     for n in &mut normals {
-        let len = n.length();
-        if !(len.is_finite() && len > 0.0) {
-            return None;
-        }
-        *n /= len;
-        if !n.is_finite() {
-            return None;
-        }
+        *n = unit_normal(*n)?;
     }
     Some(normals)
 }

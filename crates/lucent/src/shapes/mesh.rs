@@ -99,7 +99,11 @@ impl Mesh {
         let bvh = MeshBvh::build(&mesh);
         let degenerate = mesh.indices.len() - bvh.triangle_count();
         // Normals of zero length cannot shade; normalise the rest once here.
-        let normals = mesh.normals.map(|ns| ns.into_iter().map(|v| v.try_normalize().unwrap_or(Vec3::ZERO)).collect());
+        // One already of unit length (to rounding) is kept as it is, so that
+        // normalising is idempotent: a mesh written out and read back has
+        // the same normals bit for bit.
+        let unit = |v: Vec3| crate::mesh::unit_normal(v).unwrap_or(Vec3::ZERO);
+        let normals = mesh.normals.map(|ns| ns.into_iter().map(unit).collect());
         Ok(Self {
             positions: mesh.positions,
             indices: mesh.indices,

@@ -79,6 +79,40 @@ pub enum TransformOp {
     Rotate(AxisAngle),
     /// A general affine matrix, four rows of four, acting on column vectors.
     Matrix(#[serde(deserialize_with = "affine_matrix")] [[f32; 4]; 4]),
+    /// A matrix with its inverse, as `lucent convert` writes transforms so
+    /// that they read back bit for bit.
+    Affine(AffineDesc),
+}
+
+/// `{ affine = { matrix = [...], inverse = [...] } }`: an affine matrix
+/// with its inverse (each four rows of four).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AffineDesc {
+    /// The matrix.
+    #[serde(deserialize_with = "affine_matrix")]
+    pub matrix: [[f32; 4]; 4],
+    /// Its inverse.
+    #[serde(deserialize_with = "affine_matrix")]
+    pub inverse: [[f32; 4]; 4],
+}
+
+impl TransformOp {
+    /// The transform of this step.
+    pub fn to_transform(&self) -> Result<crate::geometry::Transform, crate::geometry::TransformError> {
+        use crate::geometry::Transform;
+        let rows = |r: &[[f32; 4]; 4]| glam::Mat4::from_cols_array_2d(r).transpose();
+        match self {
+            TransformOp::Translate(v) => Ok(Transform::translate((*v).into())),
+            TransformOp::Scale(v) => Transform::scale((*v).into()),
+            TransformOp::RotateX(a) => Ok(Transform::rotate_x(a.get())),
+            TransformOp::RotateY(a) => Ok(Transform::rotate_y(a.get())),
+            TransformOp::RotateZ(a) => Ok(Transform::rotate_z(a.get())),
+            TransformOp::Rotate(aa) => Transform::rotate(aa.axis.into(), aa.angle.get()),
+            TransformOp::Matrix(m) => Transform::from_matrix(rows(m)),
+            TransformOp::Affine(a) => Transform::from_matrix_and_inverse(rows(&a.matrix), rows(&a.inverse)),
+        }
+    }
 }
 
 // Transforms and triangles are checked as they are read, like other values,

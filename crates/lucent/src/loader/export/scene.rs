@@ -14,7 +14,7 @@ use super::super::description::*;
 use super::super::values::*;
 use super::super::{LoadedScene, SceneFormat};
 use super::TextureExport;
-use crate::camera::{Projection, SphericalMapping};
+use crate::camera::{Camera, Projection, SphericalMapping};
 use crate::color::Color;
 use crate::film::{Filter, ToneMap};
 use crate::geometry::{Mat4, Transform, Vec3};
@@ -139,7 +139,7 @@ pub(crate) fn describe(
         mesh_names: HashMap::new(),
         meshes: Vec::new(),
         mesh_files: BTreeMap::new(),
-        material_names: (0..scene.materials().len()).map(|i| format!("material-{i}")).collect(),
+        material_names: material_names(scene.materials().len()),
         d: SceneDescription {
             camera: camera(scene),
             textures: BTreeMap::new(),
@@ -206,6 +206,13 @@ struct Describer {
     d: SceneDescription,
 }
 
+/// Names `material-0`… zero-padded to one width, so that the file's
+/// (sorted) order is the scene's and every material keeps its index.
+fn material_names(n: usize) -> Vec<String> {
+    let width = n.saturating_sub(1).to_string().len();
+    (0..n).map(|i| format!("material-{i:0width$}")).collect()
+}
+
 fn rgb(c: Color) -> Rgb {
     Rgb(c.to_array())
 }
@@ -222,8 +229,14 @@ fn matrix_ops(m: Mat4) -> Vec<TransformOp> {
     vec![TransformOp::Matrix(m.transpose().to_cols_array_2d())]
 }
 
+/// A transform list of one matrix with its inverse (none for the
+/// identity), which reads back bit for bit.
 fn transform_ops(t: &Transform) -> Vec<TransformOp> {
-    matrix_ops(t.matrix())
+    if t.is_identity() {
+        return Vec::new();
+    }
+    let rows = |m: Mat4| m.transpose().to_cols_array_2d();
+    vec![TransformOp::Affine(AffineDesc { matrix: rows(t.matrix()), inverse: rows(t.inverse_matrix()) })]
 }
 
 fn camera(scene: &Scene) -> CameraDesc {
@@ -245,8 +258,16 @@ fn camera(scene: &Scene) -> CameraDesc {
     match projection {
         Projection::Perspective { fov_degrees, screen_window, lens, .. } => {
             c.projection = Some(ProjectionDesc::Perspective);
-            c.fov = Some(FieldOfView(fov_degrees));
-            c.screen_window = window(screen_window);
+            // The default window for the image's shape is written as a
+            // field of view, so that a different `--width`/`--height` keeps
+            // working as it does on the original scene.
+            match screen_window.and_then(|w| default_window_extent(w, scene.camera())) {
+                Some(t) => c.fov = Some(FieldOfView((2.0 * (t as f64).atan()).to_degrees() as f32)),
+                None => {
+                    c.fov = Some(FieldOfView(fov_degrees));
+                    c.screen_window = window(screen_window);
+                }
+            }
             if let Some(l) = lens {
                 c.lens_radius = Some(NonNegative(l.radius));
                 c.focal_distance = Some(Positive(l.focal_distance));
@@ -254,7 +275,9 @@ fn camera(scene: &Scene) -> CameraDesc {
         }
         Projection::Orthographic { screen_window, lens, .. } => {
             c.projection = Some(ProjectionDesc::Orthographic);
-            c.screen_window = window(screen_window);
+            if screen_window.and_then(|w| default_window_extent(w, scene.camera())) != Some(1.0) {
+                c.screen_window = window(screen_window);
+            }
             if let Some(l) = lens {
                 c.lens_radius = Some(NonNegative(l.radius));
                 c.focal_distance = Some(Positive(l.focal_distance));
@@ -269,6 +292,19 @@ fn camera(scene: &Scene) -> CameraDesc {
         }
     }
     c
+}
+
+/// If `w` is pbrt-v4's default screen window for the camera's image shape
+/// (centred, `[-a, a, -1, 1]` for an image wider than tall by `a`, else
+/// `[-1, 1, -1/a, 1/a]`) scaled by some `t`, that `t`: the half-extent of
+/// the shorter axis.
+fn default_window_extent(w: [f32; 4], camera: &Camera) -> Option<f32> {
+    let a = camera.width() as f64 / camera.height() as f64;
+    let [x0, x1, y0, y1] = w.map(f64::from);
+    let t = x1.min(y1);
+    let shape = if a > 1.0 { x1 / y1 } else { y1 / x1 };
+    let centred = x0 == -x1 && y0 == -y1 && t > 0.0;
+    (centred && (shape - a.max(1.0 / a)).abs() <= 1e-6 * a.max(1.0 / a)).then_some(t as f32)
 }
 
 fn render(scene: &Scene, s: &RenderSettings) -> RenderDesc {
