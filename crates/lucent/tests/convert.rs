@@ -301,7 +301,11 @@ fn bad_outputs_are_refused_and_nothing_is_clobbered() {
 fn shared(relative: &str) -> Option<PathBuf> {
     let path = repo().join("../shared").join(relative);
     if !path.exists() {
-        assert!(std::env::var("CI").as_deref() != Ok("true"), "{} is missing; CI must provide ../shared", path.display());
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "{} is missing; CI must provide ../shared",
+            path.display()
+        );
         eprintln!("skipping: {} is absent", path.display());
         return None;
     }

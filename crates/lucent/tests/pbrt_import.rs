@@ -229,15 +229,15 @@ fn area_lights_emit_from_the_front_and_reverse_orientation_flips_it() {
     assert_eq!(lights.len(), 2);
     let p = Vec3::new(0.5, 0.25, 0.0);
     // The quad winds counter-clockwise around +z: it emits towards +z.
-    assert_eq!(lights[0].emitted(p, Vec3::Z), Color::splat(4.0));
-    assert_eq!(lights[0].emitted(p, -Vec3::Z), Color::ZERO);
+    assert_eq!(lights[0].emitted(p, Vec2::ZERO, Vec3::Z), Color::splat(4.0));
+    assert_eq!(lights[0].emitted(p, Vec2::ZERO, -Vec3::Z), Color::ZERO);
     let back =
         import(&scene("", &format!("ReverseOrientation\nAreaLightSource \"diffuse\" \"rgb L\" [4 4 4]\n{QUAD}")));
-    assert_eq!(back.scene.area_lights()[0].emitted(p, -Vec3::Z), Color::splat(4.0));
-    assert_eq!(back.scene.area_lights()[0].emitted(p, Vec3::Z), Color::ZERO);
+    assert_eq!(back.scene.area_lights()[0].emitted(p, Vec2::ZERO, -Vec3::Z), Color::splat(4.0));
+    assert_eq!(back.scene.area_lights()[0].emitted(p, Vec2::ZERO, Vec3::Z), Color::ZERO);
     let two =
         import(&scene("", &format!("AreaLightSource \"diffuse\" \"rgb L\" [4 4 4] \"bool twosided\" true\n{QUAD}")));
-    assert_eq!(two.scene.area_lights()[0].emitted(p, -Vec3::Z), Color::splat(4.0));
+    assert_eq!(two.scene.area_lights()[0].emitted(p, Vec2::ZERO, -Vec3::Z), Color::splat(4.0));
 }
 
 #[test]
@@ -246,8 +246,8 @@ fn mirrored_area_lights_keep_their_side() {
     // normal back (transformSwapsHandedness), so the light still faces +z.
     let s = import(&scene("", &format!("Scale -1 1 1\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\n{QUAD}")));
     let p = Vec3::new(-0.5, 0.25, 0.0);
-    assert_eq!(s.scene.area_lights()[0].emitted(p, Vec3::Z), Color::ONE);
-    assert_eq!(s.scene.area_lights()[0].emitted(p, -Vec3::Z), Color::ZERO);
+    assert_eq!(s.scene.area_lights()[0].emitted(p, Vec2::ZERO, Vec3::Z), Color::ONE);
+    assert_eq!(s.scene.area_lights()[0].emitted(p, Vec2::ZERO, -Vec3::Z), Color::ZERO);
 }
 
 #[test]

@@ -199,6 +199,50 @@ impl Camera {
     }
 }
 
+impl Camera {
+    /// This camera as pbrt-v4 parameters: its camera-to-world matrix (the
+    /// columns are the camera's `x`, `y`, `z` axes and its origin, the eye)
+    /// and a [`Projection`] from which [`Camera::pbrt`] makes this camera
+    /// again, for the same image size. A perspective camera is described
+    /// with `fov` 90°, whose screen window at unit distance is the window
+    /// itself, so the screen window is given explicitly; what a scene file
+    /// said (a classic horizontal `fov`, pbrt's shorter-axis `fov`) is not
+    /// kept, only the camera it made. The result is exact up to the
+    /// rounding of `centre ± half-extent`.
+    ///
+    /// ```
+    /// use lucent::camera::Camera;
+    /// use lucent::geometry::{Transform, Vec3};
+    /// let cam = Camera::new(Vec3::new(1.0, 2.0, 3.0), Vec3::ZERO, Vec3::Y, 40.0, 64, 48).unwrap();
+    /// let (m, projection) = cam.pbrt_parameters();
+    /// let again = Camera::pbrt(&Transform::from_matrix(m).unwrap(), projection, 64, 48).unwrap();
+    /// assert_eq!(again, cam);
+    /// ```
+    pub fn pbrt_parameters(&self) -> (crate::geometry::Mat4, Projection) {
+        let m = crate::geometry::Mat4::from_cols(
+            self.u.extend(0.0),
+            self.v.extend(0.0),
+            self.w.extend(0.0),
+            self.eye.extend(1.0),
+        );
+        let c = self.centre;
+        let window = [c.x - self.half_width, c.x + self.half_width, c.y - self.half_height, c.y + self.half_height];
+        let projection = match self.model {
+            Model::Perspective => Projection::Perspective {
+                fov_degrees: 90.0,
+                screen_window: Some(window),
+                frame_aspect_ratio: None,
+                lens: self.lens,
+            },
+            Model::Orthographic => {
+                Projection::Orthographic { screen_window: Some(window), frame_aspect_ratio: None, lens: self.lens }
+            }
+            Model::Spherical(mapping) => Projection::Spherical { mapping },
+        };
+        (m, projection)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -384,49 +428,5 @@ mod tests {
         ));
         let p = Projection::Orthographic { screen_window: None, frame_aspect_ratio: Some(-1.0), lens: None };
         assert_eq!(Camera::pbrt(&id, p, 4, 4), Err(CameraError::FrameAspectRatio(-1.0)));
-    }
-}
-
-impl Camera {
-    /// This camera as pbrt-v4 parameters: its camera-to-world matrix (the
-    /// columns are the camera's `x`, `y`, `z` axes and its origin, the eye)
-    /// and a [`Projection`] from which [`Camera::pbrt`] makes this camera
-    /// again, for the same image size. A perspective camera is described
-    /// with `fov` 90°, whose screen window at unit distance is the window
-    /// itself, so the screen window is given explicitly; what a scene file
-    /// said (a classic horizontal `fov`, pbrt's shorter-axis `fov`) is not
-    /// kept, only the camera it made. The result is exact up to the
-    /// rounding of `centre ± half-extent`.
-    ///
-    /// ```
-    /// use lucent::camera::Camera;
-    /// use lucent::geometry::{Transform, Vec3};
-    /// let cam = Camera::new(Vec3::new(1.0, 2.0, 3.0), Vec3::ZERO, Vec3::Y, 40.0, 64, 48).unwrap();
-    /// let (m, projection) = cam.pbrt_parameters();
-    /// let again = Camera::pbrt(&Transform::from_matrix(m).unwrap(), projection, 64, 48).unwrap();
-    /// assert_eq!(again, cam);
-    /// ```
-    pub fn pbrt_parameters(&self) -> (crate::geometry::Mat4, Projection) {
-        let m = crate::geometry::Mat4::from_cols(
-            self.u.extend(0.0),
-            self.v.extend(0.0),
-            self.w.extend(0.0),
-            self.eye.extend(1.0),
-        );
-        let c = self.centre;
-        let window = [c.x - self.half_width, c.x + self.half_width, c.y - self.half_height, c.y + self.half_height];
-        let projection = match self.model {
-            Model::Perspective => Projection::Perspective {
-                fov_degrees: 90.0,
-                screen_window: Some(window),
-                frame_aspect_ratio: None,
-                lens: self.lens,
-            },
-            Model::Orthographic => {
-                Projection::Orthographic { screen_window: Some(window), frame_aspect_ratio: None, lens: self.lens }
-            }
-            Model::Spherical(mapping) => Projection::Spherical { mapping },
-        };
-        (m, projection)
     }
 }

@@ -92,7 +92,8 @@ impl Transform {
         }
         let size = |a: &Mat4| a.to_cols_array().iter().fold(0.0f32, |x, v| x.max(v.abs()));
         let error = size(&(m * m_inv - Mat4::IDENTITY));
-        if !(error <= 1e-4 * (size(&m) * size(&m_inv)).max(1.0)) {
+        // (The product is finite: both matrices are.)
+        if error > 1e-4 * (size(&m) * size(&m_inv)).max(1.0) {
             return Err(TransformError::WrongInverse(error));
         }
         Ok(Self { m, m_inv })

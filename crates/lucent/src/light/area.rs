@@ -322,8 +322,8 @@ mod tests {
         let above = ctx(Vec3::new(0.0, 2.0, 0.3), -Vec3::Y);
         assert!(irradiance(&one, &below, 1000, 1).0 > 0.0);
         assert_eq!(irradiance(&one, &above, 1000, 1).0, 0.0);
-        assert_eq!(one.emitted(Vec3::new(0.0, 1.0, 0.3), Vec3::Y), Color::ZERO);
-        assert_eq!(one.emitted(Vec3::new(0.0, 1.0, 0.3), -Vec3::Y), Color::ONE);
+        assert_eq!(one.emitted(Vec3::new(0.0, 1.0, 0.3), Vec2::ZERO, Vec3::Y), Color::ZERO);
+        assert_eq!(one.emitted(Vec3::new(0.0, 1.0, 0.3), Vec2::ZERO, -Vec3::Y), Color::ONE);
         let two = AreaLight { two_sided: true, ..one.clone() };
         assert!(irradiance(&two, &above, 1000, 1).0 > 0.0);
         // Reversed: the back emits, the front is dark.
@@ -331,12 +331,12 @@ mod tests {
         assert_eq!(irradiance(&back, &below, 1000, 1).0, 0.0);
         let (e_back, e_front) = (irradiance(&back, &above, 20_000, 2).0, irradiance(&one, &below, 20_000, 2).0);
         assert!(e_back > 0.0 && e_front > 0.0);
-        assert_eq!(back.emitted(Vec3::new(0.0, 1.0, 0.3), Vec3::Y), Color::ONE);
-        assert_eq!(back.emitted(Vec3::new(0.0, 1.0, 0.3), -Vec3::Y), Color::ZERO);
+        assert_eq!(back.emitted(Vec3::new(0.0, 1.0, 0.3), Vec2::ZERO, Vec3::Y), Color::ONE);
+        assert_eq!(back.emitted(Vec3::new(0.0, 1.0, 0.3), Vec2::ZERO, -Vec3::Y), Color::ZERO);
         assert_eq!(back.l(-Vec3::Y, Vec3::Y), Color::ONE);
         // Two-sided lights ignore it.
         let both = AreaLight { two_sided: true, ..back };
-        assert_eq!(both.emitted(Vec3::new(0.0, 1.0, 0.3), -Vec3::Y), Color::ONE);
+        assert_eq!(both.emitted(Vec3::new(0.0, 1.0, 0.3), Vec2::ZERO, -Vec3::Y), Color::ONE);
     }
 
     #[test]

@@ -218,7 +218,6 @@ impl SceneFile {
             regularize: r.regularize,
             film_scale: r.film_scale.map_or(Color::ONE, Color::from),
             max_component: r.max_component.map(Positive::get),
-            ..RenderSettings::for_integrator(integrator)
         })
     }
 

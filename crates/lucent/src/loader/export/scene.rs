@@ -130,7 +130,7 @@ pub(crate) fn describe(
     loaded: &LoadedScene,
     dir: &Path,
     mesh_dir: &str,
-) -> Result<(SceneDescription, Vec<(String, Arc<Mesh>)>), ExportError> {
+) -> Result<(SceneDescription, NamedMeshes), ExportError> {
     let scene = &loaded.scene;
     let mut out = Describer {
         textures: TextureExport::new(dir),
@@ -194,13 +194,16 @@ struct EmissionKeys {
     emission_texture: Option<String>,
 }
 
+/// Meshes to write, with their names under `[meshes]`.
+type NamedMeshes = Vec<(String, Arc<Mesh>)>;
+
 struct Describer {
     textures: TextureExport,
     dir: PathBuf,
     mesh_dir: String,
     /// Meshes already named, by address: each is written once.
     mesh_names: HashMap<*const Mesh, String>,
-    meshes: Vec<(String, Arc<Mesh>)>,
+    meshes: NamedMeshes,
     mesh_files: BTreeMap<String, MeshFileDesc>,
     material_names: Vec<String>,
     d: SceneDescription,
