@@ -675,7 +675,7 @@ fn camera_without_eye() {
     let f = Fixture::new();
     let scene = edit(SCENE, "eye = [0, 0, -5]\n", "");
     let run = f.check("scene.toml", &scene);
-    assert_error(&run, &["scene.toml:1:", "missing field `eye`"]);
+    assert_error(&run, &["scene.toml:1:", "`eye` is missing"]);
 }
 
 #[test]
