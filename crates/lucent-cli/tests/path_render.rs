@@ -851,8 +851,10 @@ fn filter_errors() {
     assert_check_error(&f, &scene, Some(("filter =", "filter")), &["`sigma` does not apply to a box filter"]);
     let scene = edit(FULL_SCENE, "kind = \"gaussian\", sigma = 0.5", "kind = \"tent\", b = 0.5");
     assert_check_error(&f, &scene, None, &["`b` does not apply to a tent filter"]);
-    let scene = edit(FULL_SCENE, "kind = \"gaussian\", sigma = 0.5", "kind = \"lanczos\"");
-    assert_check_error(&f, &scene, None, &["unknown variant `lanczos`", "`gaussian`", "`mitchell`"]);
+    let scene = edit(FULL_SCENE, "kind = \"gaussian\", sigma = 0.5", "kind = \"sinc\"");
+    assert_check_error(&f, &scene, None, &["unknown variant `sinc`", "`gaussian`", "`mitchell`", "`lanczos`"]);
+    let scene = edit(FULL_SCENE, "sigma = 0.5", "tau = 2");
+    assert_check_error(&f, &scene, None, &["`tau` does not apply to a gaussian filter"]);
     let scene = edit(FULL_SCENE, "sigma = 0.5", "sigma = 0");
     assert_check_error(&f, &scene, None, &["sigma"]);
 }
