@@ -18,7 +18,7 @@
 //! | 8 | magic `LUCENTPT` |
 //! | 4 | format version (1) |
 //! | 4, 4 | width, height |
-//! | 8 | fingerprint of the scene and settings (see [`crate::loader::SceneSource::fingerprint`]) |
+//! | 8 | fingerprint of the scene and settings (the loader's `SceneSource::fingerprint`) |
 //! | 4, 4 | tone mapping (0 classic, 1 clamp, 2 Reinhard, 3 ACES) and sRGB (0 or 1) for 8-bit output |
 //! | 4 | number of sample ranges `n` (at least 1) |
 //! | 8·n | the ranges, `start` and `end` (exclusive) as u32, sorted, non-empty, neither overlapping nor touching |
@@ -87,8 +87,8 @@ pub struct PartialFilm {
 
 impl PartialFilm {
     /// The samples `samples` held by `acc` (whose other samples, if any,
-    /// must be ones it never added: see
-    /// [`render_partial`](crate::render::render_partial)), of the render
+    /// must be ones it never added, as the render loop's `render_partial`
+    /// leaves them), of the render
     /// with `fingerprint`, to be shown with `tone_map` and `srgb`.
     ///
     /// ```

@@ -146,7 +146,7 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: RenderOptions) 
 /// Render only the sample indices `samples` of every pixel (of the render
 /// that takes samples `0..n` of each pixel's sequence), as a
 /// [`PartialFilm`] of the render with `fingerprint`
-/// ([`crate::loader::SceneSource::fingerprint`]). Partial films of disjoint
+/// (the loader's `SceneSource::fingerprint`). Partial films of disjoint
 /// ranges merge into exactly the film of one render of all their samples,
 /// so a render can be spread over processes or machines.
 ///
