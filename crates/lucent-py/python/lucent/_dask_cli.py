@@ -80,7 +80,14 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _render(args) -> None:
+    import logging
+
     import lucent
+
+    # Dask logs a failed connection attempt (and a worker lost mid-render,
+    # which it recovers from) on stderr; errors that matter reach us as
+    # exceptions and are reported in one line.
+    logging.getLogger("distributed").setLevel(logging.CRITICAL)
 
     try:
         from lucent import distributed
@@ -112,7 +119,8 @@ def _render(args) -> None:
     if args.output.lower().endswith(".lpart"):
         total.save(args.output)
     else:
-        lucent.write(args.output, total.image())
+        # 8-bit formats are tone mapped as the scene asks, as `lucent render` does.
+        lucent.write(args.output, total.image(), tone_map=scene.tone_map, srgb=scene.srgb)
     if not args.quiet:
         height, width = total.image().shape[:2]
         print(
