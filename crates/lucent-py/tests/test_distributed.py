@@ -10,6 +10,7 @@ import hashlib
 import io
 import json
 import os
+import re
 import signal
 import socket
 import subprocess
@@ -341,9 +342,8 @@ def test_cli_on_separate_scheduler_and_worker_processes(tmp_path):
         )
         assert run.returncode == 0, run.stderr
         assert run.stdout == ""
-        assert run.stderr.strip() == f"{out}: 32x24, 8 spp in " + run.stderr.split(" spp in ")[1].split(" s ")[0] + (
-            " s on 2 workers (2 threads)"
-        )
+        summary = rf"{re.escape(str(out))}: 32x24, 8 spp in \d+\.\d\d s on 2 workers \(2 threads\)\n"
+        assert re.fullmatch(summary, run.stderr), run.stderr
         reference = lucent.load(scene_path).render(progress=False)
         assert identical(lucent.read(out), reference)
 

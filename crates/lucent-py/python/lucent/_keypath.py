@@ -35,19 +35,21 @@ def _plain(value: Any, path: str) -> Any:
     tolist = getattr(value, "tolist", None)  # NumPy arrays and scalars
     if callable(tolist):
         return tolist()
-    raise SceneError(
-        f"scene dict, at {path or 'the top level'}: cannot use a value of type "
-        f"{type(value).__name__} in a scene (numbers, strings, booleans, lists and dicts are accepted)",
-        message=f"cannot use a value of type {type(value).__name__} in a scene",
-        key=path or None,
+    raise _error(
+        path,
+        f"cannot use a value of type {type(value).__name__} in a scene "
+        "(numbers, strings, booleans, lists and dicts are accepted)",
     )
 
 
-def _scalar(value: Any) -> str:
+def _scalar(value: Any, path: str) -> str:
     if isinstance(value, float) and not math.isfinite(value):
-        # Not JSON: the loader reports it at this line, with this text.
-        return repr(value)
+        raise _error(path, f"{value} is not a number a scene can hold (NaN and infinities are not accepted)")
     return json.dumps(value)
+
+
+def _error(path: str, message: str) -> SceneError:
+    return SceneError(f"scene dict, at {path or 'the top level'}: {message}", message=message, key=path or None)
 
 
 def dump(scene: dict) -> Tuple[str, List[str]]:
@@ -68,17 +70,13 @@ def dump(scene: dict) -> Tuple[str, List[str]]:
             items = list(value.items())
             for i, (key, item) in enumerate(items):
                 if not isinstance(key, str):
-                    raise SceneError(
-                        f"scene dict, at {path or 'the top level'}: keys must be strings, got {key!r}",
-                        message=f"keys must be strings, got {key!r}",
-                        key=path or None,
-                    )
+                    raise _error(path, f"keys must be strings, got {key!r}")
                 walk(item, _join(path, key), depth + 1, f"{json.dumps(key)}: ", "," if i < len(items) - 1 else "")
             emit(f"{pad}}}{suffix}", path)
         elif isinstance(value, (list, tuple)) and value:
             items = [_plain(v, f"{path}[{i}]") for i, v in enumerate(value)]
             if all(v is None or isinstance(v, (bool, int, float, str)) for v in items):
-                emit(f"{pad}{prefix}[{', '.join(_scalar(v) for v in items)}]{suffix}", path)
+                emit(f"{pad}{prefix}[{', '.join(_scalar(v, f'{path}[{i}]') for i, v in enumerate(items))}]{suffix}", path)
                 return
             emit(f"{pad}{prefix}[", path)
             for i, item in enumerate(items):
@@ -89,7 +87,7 @@ def dump(scene: dict) -> Tuple[str, List[str]]:
         elif isinstance(value, (list, tuple)):
             emit(f"{pad}{prefix}[]{suffix}", path)
         else:
-            emit(f"{pad}{prefix}{_scalar(value)}{suffix}", path)
+            emit(f"{pad}{prefix}{_scalar(value, path)}{suffix}", path)
 
     if not isinstance(scene, dict):
         raise SceneError(
@@ -108,7 +106,15 @@ def relocate(error: SceneError, paths: List[str], text_path: str) -> SceneError:
         return error
     key: Optional[str] = None
     if error.line is not None and 1 <= error.line <= len(paths):
-        key = paths[error.line - 1] or None
+        line = error.line
+        # The parser reports an error in a value after looking past it: at
+        # the `}` or `]` that closes its table when the value is the last
+        # one. That error is the value's (but a missing key is the table's).
+        text = (error.line_text or "").lstrip()
+        at_start = error.column == len(error.line_text or "") - len(text) + 1
+        if text[:1] in "}]" and text and at_start and not error.message.startswith("missing field") and line > 1:
+            line -= 1
+        key = paths[line - 1] or None
     where = f"at {key}" if key else "at the top level" if error.line is not None else ""
     text = f"scene dict{', ' + where if where else ''}: {error.message}"
     return SceneError(text, message=error.message, key=key)
