@@ -38,6 +38,7 @@ from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 try:
     import dask
     from dask.distributed import Client, as_completed, get_worker
+    from dask.utils import parse_bytes
 except ImportError as _e:  # pragma: no cover - depends on the environment
     raise ImportError(
         "lucent.distributed needs Dask's distributed scheduler, which is not installed: "
@@ -308,7 +309,7 @@ def render_partial(
     # warning about large graphs, which is meant for data that belongs in
     # a data set, not for a scene.
     limit = max(
-        dask.utils.parse_bytes(dask.config.get("distributed.admin.large-graph-warning-threshold", "10MB")),
+        parse_bytes(dask.config.get("distributed.admin.large-graph-warning-threshold", "10MB")),
         len(job.archive.data) + (1 << 20),
     )
     with dask.config.set({"distributed.admin.large-graph-warning-threshold": limit}):
