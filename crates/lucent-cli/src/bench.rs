@@ -12,9 +12,8 @@ struct Measurement {
 /// report medians (the machine is shared and noisy: medians and ratios from
 /// one run are what can be compared).
 pub fn run(args: &BenchArgs) -> Result<(), String> {
-    let mut file = crate::load(args.scene.as_deref())?;
-    crate::apply_overrides(&mut file, &args.overrides)?;
-    let loaded = file.build().map_err(|e| e.to_string())?;
+    let source = crate::source::load(args.scene.as_deref(), &args.overrides, &Default::default())?;
+    let loaded = &source.loaded;
     let (scene, settings) = (&loaded.scene, &loaded.settings);
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut counts = args.threads.clone();

@@ -49,6 +49,10 @@ pub enum Command {
     /// Compare an image with a reference image (MSE, relative MSE, largest
     /// error).
     Diff(crate::diff::DiffArgs),
+    /// Add up partial renders (.lpart files written by `render --samples`)
+    /// into the image of all their samples: bit-identical to one render of
+    /// them, whatever the order or grouping of the parts.
+    Merge(MergeArgs),
     /// Write a procedural environment map (daylight sky or photo studio)
     /// as a linear .hdr or .exr equirectangular image.
     Sky(SkyArgs),
@@ -184,6 +188,38 @@ pub struct RenderArgs {
     /// to rendering in one go.
     #[arg(long)]
     pub resume: bool,
+    /// Render only the sample indices START..END (END excluded) of every
+    /// pixel and write them, exactly, as a partial render (-o must end in
+    /// .lpart); `lucent merge` adds disjoint parts into the image of all
+    /// their samples.
+    #[arg(long, value_name = "START..END", value_parser = sample_range)]
+    pub samples: Option<std::ops::Range<u32>>,
+}
+
+/// `lucent merge`.
+#[derive(Args, Debug)]
+pub struct MergeArgs {
+    /// The partial renders (.lpart), in any order.
+    #[arg(value_name = "PART", required = true)]
+    pub parts: Vec<PathBuf>,
+    /// Output: an image (.png, .bmp, .exr, .hdr), or a .lpart holding the
+    /// sum (to merge further later).
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// A range of sample indices `START..END`, 0 <= START < END <= 2^20.
+fn sample_range(s: &str) -> Result<std::ops::Range<u32>, String> {
+    let bad = || format!("expected START..END with 0 <= START < END <= 1048576 (e.g. 0..16), got '{s}'");
+    let (a, b) = s.split_once("..").ok_or_else(bad)?;
+    let (a, b) = (a.trim().parse::<u32>().map_err(|_| bad())?, b.trim().parse::<u32>().map_err(|_| bad())?);
+    if a >= b || b > 1_048_576 {
+        return Err(bad());
+    }
+    Ok(a..b)
 }
 
 /// Options of the pbrt-v4 importer.

@@ -13,6 +13,7 @@ mod bench;
 mod bench_rays;
 mod cli;
 mod diff;
+mod partial;
 mod progress;
 mod render;
 mod sky;
@@ -20,7 +21,6 @@ mod source;
 
 use clap::Parser;
 use cli::{Cli, Command, RenderArgs};
-use lucent::loader::{SceneFile, SceneFormat};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -36,6 +36,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::run(&args),
         Command::BenchRays(args) => bench_rays::run(&args),
         Command::Diff(args) => diff::run(&args),
+        Command::Merge(args) => partial::merge(&args),
         Command::Sky(args) => sky::run(&args),
     };
     match result {
@@ -47,66 +48,14 @@ fn main() -> ExitCode {
     }
 }
 
-/// Load a scene file, or the built-in showcase when `path` is `None`.
-pub fn load(path: Option<&Path>) -> Result<SceneFile, String> {
-    match path {
-        Some(p) => SceneFile::load(p).map_err(|e| e.to_string()),
-        None => SceneFile::parse(BUILTIN_SCENE.to_owned(), SceneFormat::Toml, Some("<built-in showcase>".into()))
-            .map_err(|e| e.to_string()),
-    }
-}
-
-/// Apply command-line overrides to a loaded scene file. An image size set
-/// on the command line is checked here, so that an error names the options
-/// rather than a line of the file.
-pub fn apply_overrides(file: &mut SceneFile, args: &cli::SceneOverrides) -> Result<(), String> {
-    use lucent::loader::{ImageDimension, IntegratorDesc, MaxDepth, SampleCount, SamplerDesc};
-    let r = &mut file.description.render;
-    if let Some(w) = args.width {
-        r.width = ImageDimension(w);
-    }
-    if let Some(h) = args.height {
-        r.height = ImageDimension(h);
-    }
-    if let Some(spp) = args.spp {
-        r.spp = SampleCount(spp);
-    }
-    if let Some(seed) = args.seed {
-        r.seed = seed;
-    }
-    if let Some(i) = args.integrator {
-        r.integrator = match i {
-            cli::IntegratorArg::Whitted => IntegratorDesc::Whitted,
-            cli::IntegratorArg::Path => IntegratorDesc::Path,
-        };
-    }
-    if let Some(s) = args.sampler {
-        r.sampler = Some(match s {
-            cli::SamplerArg::Stratified => SamplerDesc::Stratified,
-            cli::SamplerArg::Sobol => SamplerDesc::Sobol,
-            cli::SamplerArg::Independent => SamplerDesc::Independent,
-        });
-    }
-    if let Some(d) = args.max_depth {
-        r.max_depth = Some(MaxDepth(d));
-    }
-    if args.width.is_some() || args.height.is_some() {
-        lucent::film::check_image_size(r.width.0, r.height.0).map_err(|e| {
-            let given: Vec<String> = [("--width", args.width), ("--height", args.height)]
-                .iter()
-                .filter_map(|(name, v)| v.map(|v| format!("{name} {v}")))
-                .collect();
-            format!("{}: {e}", given.join(" "))
-        })?;
-    }
-    Ok(())
-}
-
 fn run_render(args: &RenderArgs) -> Result<(), String> {
     render::handle_interrupts();
     let source = source::load(args.scene.as_deref(), &args.overrides, &args.import)?;
     warn(&source.loaded.scene, args.quiet);
     let out_path = args.output.clone().unwrap_or_else(|| default_output(args.scene.as_deref()));
+    if args.samples.is_some() || partial::is_part(&out_path) {
+        return partial::render(args, &source, &out_path);
+    }
     render::run(args, &source, &out_path)
 }
 

@@ -4,9 +4,8 @@
 
 use crate::cli::RenderArgs;
 use crate::progress::FractionProgress;
-use crate::source::Source;
 use lucent::film::{load_checkpoint, save_checkpoint, Accumulator, CheckpointError, PendingImage};
-use lucent::loader::{LoadedScene, MAX_SPP};
+use lucent::loader::{SceneSource, MAX_SPP};
 use lucent::render::{render_into, PassInfo, RenderError, RenderOptions};
 use lucent::sampling::SamplerKind;
 use std::path::{Path, PathBuf};
@@ -34,37 +33,7 @@ pub fn checkpoint_path(output: &Path) -> PathBuf {
     PathBuf::from(name)
 }
 
-/// FNV-1a, 64-bit: stable across runs and platforms, unlike std's randomly
-/// keyed hasher.
-fn fnv1a(hash: u64, bytes: &[u8]) -> u64 {
-    bytes.iter().fold(hash, |h, &b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
-}
-
-/// A fingerprint of everything that decides the samples of a render: the
-/// scene description with its sample count and display settings (tone
-/// mapping, sRGB) left out, since those may change between a render and
-/// its continuation; the settings as resolved (so a default written out
-/// explicitly fingerprints the same as the default); and the contents of
-/// every mesh and environment file the scene read. The stratified sampler
-/// lays each pixel's samples out as grids of `spp`, so with it the sample
-/// count is part of the fingerprint too.
-fn fingerprint(description: &str, loaded: &LoadedScene) -> Result<u64, String> {
-    let d = description;
-    let mut settings = loaded.settings.clone();
-    if settings.sampler != SamplerKind::Stratified {
-        settings.spp = 1;
-    }
-    settings.tone_map = Default::default();
-    settings.srgb = true;
-    let mut h = fnv1a(0xcbf2_9ce4_8422_2325, format!("{d}\n{settings:?}").as_bytes());
-    for path in &loaded.files {
-        let bytes = std::fs::read(path).map_err(|e| format!("cannot read {} again: {e}", path.display()))?;
-        h = fnv1a(fnv1a(h, path.to_string_lossy().as_bytes()), &bytes);
-    }
-    Ok(h)
-}
-
-pub fn run(args: &RenderArgs, source: &Source, out_path: &Path) -> Result<(), String> {
+pub fn run(args: &RenderArgs, source: &SceneSource, out_path: &Path) -> Result<(), String> {
     let loaded = &source.loaded;
     let (scene, settings) = (&loaded.scene, &loaded.settings);
     let (w, h) = (scene.camera().width(), scene.camera().height());
@@ -74,7 +43,7 @@ pub fn run(args: &RenderArgs, source: &Source, out_path: &Path) -> Result<(), St
     let keep_state = args.checkpoint_every.is_some() || args.resume;
     // The fingerprint reads every mesh and environment file again: only
     // when a checkpoint is written or read (or, below, on an interrupt).
-    let fp = if keep_state { fingerprint(&source.description, loaded)? } else { 0 };
+    let fp = if keep_state { source.fingerprint().map_err(|e| e.to_string())? } else { 0 };
     let mut acc = if args.resume {
         if !ckpt.exists() {
             return Err(format!(
@@ -134,7 +103,7 @@ pub fn run(args: &RenderArgs, source: &Source, out_path: &Path) -> Result<(), St
             Ok(out) => Some(out),
             Err(RenderError::Interrupted) => {
                 bar.finish();
-                let fp = if keep_state { fp } else { fingerprint(&source.description, loaded)? };
+                let fp = if keep_state { fp } else { source.fingerprint().map_err(|e| e.to_string())? };
                 return Err(interrupted(&ckpt, &acc, fp, resumed_at));
             }
             Err(e) => return Err(e.to_string()),

@@ -1,91 +1,59 @@
-//! Where a scene comes from: lucent's own TOML/JSON (or the built-in
-//! showcase), or a pbrt-v4 file imported through the scene builder.
+//! Where a scene comes from: a file (lucent's TOML/JSON or pbrt-v4), or the
+//! built-in showcase, opened through the library's
+//! [`SceneSource`] with the command line's overrides.
 
-use crate::cli::{ImportArgs, SceneOverrides};
-use lucent::loader::pbrt::{import_pbrt, ImportOptions};
-use lucent::loader::{LoadedScene, SceneFile};
+use crate::cli::{ImportArgs, IntegratorArg, SamplerArg, SceneOverrides};
+use lucent::loader::{is_pbrt_path, SceneFile, SceneFormat, SceneSource};
 use lucent::render::IntegratorKind;
 use lucent::sampling::SamplerKind;
 use std::path::Path;
 
-/// A scene loaded and built, with what a checkpoint's fingerprint needs
-/// to know about its description.
-pub struct Source {
-    /// The built scene and its settings.
-    pub loaded: LoadedScene,
-    /// The description the samples depend on, as text: for TOML/JSON the
-    /// parsed description without its display settings, for pbrt-v4 the
-    /// file name (its bytes and those of every file it includes or reads
-    /// are in `loaded.files`).
-    pub description: String,
-}
-
-/// Whether `path` names a pbrt-v4 file (`.pbrt`, `.pbrt.gz`).
-pub fn is_pbrt(path: &Path) -> bool {
-    let name = path.file_name().map(|n| n.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
-    name.ends_with(".pbrt") || name.ends_with(".pbrt.gz")
-}
-
 /// Load and build the scene at `path` (the built-in showcase when `None`),
 /// with the command line's overrides applied.
-pub fn load(path: Option<&Path>, overrides: &SceneOverrides, import: &ImportArgs) -> Result<Source, String> {
+pub fn load(path: Option<&Path>, overrides: &SceneOverrides, import: &ImportArgs) -> Result<SceneSource, String> {
+    if !path.is_some_and(is_pbrt_path) && (import.strict || import.env.is_some()) {
+        return Err("--strict and --env apply to pbrt-v4 scenes (.pbrt) only".into());
+    }
+    check_size(overrides)?;
+    let o = library_overrides(overrides, import);
     match path {
-        Some(p) if is_pbrt(p) => {
-            let options = ImportOptions {
-                strict: import.strict,
-                environment: import.env.clone(),
-                resolution: match (overrides.width, overrides.height) {
-                    (None, None) => None,
-                    (w, h) => Some((w, h)),
-                },
-            };
-            let mut loaded = import_pbrt(p, &options).map_err(|e| e.to_string())?;
-            let s = &mut loaded.settings;
-            if let Some(spp) = overrides.spp {
-                s.spp = spp;
-            }
-            if let Some(seed) = overrides.seed {
-                s.seed = seed;
-            }
-            if let Some(i) = overrides.integrator {
-                s.integrator = match i {
-                    crate::cli::IntegratorArg::Whitted => IntegratorKind::Whitted,
-                    crate::cli::IntegratorArg::Path => IntegratorKind::Path,
-                };
-            }
-            if let Some(sampler) = overrides.sampler {
-                s.sampler = match sampler {
-                    crate::cli::SamplerArg::Stratified => SamplerKind::Stratified,
-                    crate::cli::SamplerArg::Sobol => SamplerKind::Sobol,
-                    crate::cli::SamplerArg::Independent => SamplerKind::Independent,
-                };
-            }
-            if let Some(d) = overrides.max_depth {
-                s.max_depth = d;
-            }
-            Ok(Source { loaded, description: format!("pbrt-v4 {}", p.display()) })
+        Some(p) => SceneSource::open(p, &o),
+        None => {
+            SceneFile::parse(crate::BUILTIN_SCENE.to_owned(), SceneFormat::Toml, Some("<built-in showcase>".into()))
+                .and_then(|file| SceneSource::from_file(file, &o))
         }
-        _ => {
-            if import.strict || import.env.is_some() {
-                return Err("--strict and --env apply to pbrt-v4 scenes (.pbrt) only".into());
-            }
-            let mut file = crate::load(path)?;
-            crate::apply_overrides(&mut file, overrides)?;
-            let loaded = file.build().map_err(|e| e.to_string())?;
-            Ok(Source { description: description_key(&file), loaded })
-        }
+    }
+    .map_err(|e| e.to_string())
+}
+
+/// The command line's options as the library's overrides.
+fn library_overrides(o: &SceneOverrides, import: &ImportArgs) -> lucent::loader::SceneOverrides {
+    lucent::loader::SceneOverrides {
+        width: o.width,
+        height: o.height,
+        spp: o.spp,
+        seed: o.seed,
+        integrator: o.integrator.map(|i| match i {
+            IntegratorArg::Whitted => IntegratorKind::Whitted,
+            IntegratorArg::Path => IntegratorKind::Path,
+        }),
+        sampler: o.sampler.map(|s| match s {
+            SamplerArg::Stratified => SamplerKind::Stratified,
+            SamplerArg::Sobol => SamplerKind::Sobol,
+            SamplerArg::Independent => SamplerKind::Independent,
+        }),
+        max_depth: o.max_depth,
+        strict: import.strict,
+        environment: import.env.clone(),
     }
 }
 
-/// The description of a TOML/JSON scene with what may change between a
-/// render and its continuation (the sample count, tone mapping, sRGB,
-/// depth and sampler, which the resolved settings carry) left out.
-fn description_key(file: &SceneFile) -> String {
-    let mut d = file.description.clone();
-    d.render.spp = lucent::loader::SampleCount(1);
-    d.render.tone_map = Default::default();
-    d.render.srgb = true;
-    d.render.max_depth = None;
-    d.render.sampler = None;
-    format!("{d:?}")
+/// An image size given on the command line is checked first, so that an
+/// error names the options rather than a line of the file. (One side alone
+/// is checked with the scene's other side by the loader.)
+fn check_size(o: &SceneOverrides) -> Result<(), String> {
+    if let (Some(w), Some(h)) = (o.width, o.height) {
+        lucent::film::check_image_size(w, h).map_err(|e| format!("--width {w} --height {h}: {e}"))?;
+    }
+    Ok(())
 }

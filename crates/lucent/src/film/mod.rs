@@ -5,6 +5,7 @@ mod accumulator;
 mod checkpoint;
 mod filter;
 mod output;
+mod partial;
 mod sensor;
 mod tonemap;
 
@@ -12,6 +13,7 @@ pub use accumulator::{fixed_contribution, Accumulator, FIXED_POINT_SCALE, MAX_CO
 pub use checkpoint::{load_checkpoint, save_checkpoint, CheckpointError};
 pub use filter::{Filter, FilterError, FilterSample, FilterSampler, TABLE_SEGMENTS};
 pub use output::{ImageFormat, OutputError, PendingImage};
+pub use partial::{show_ranges, PartialError, PartialFilm};
 pub use sensor::{
     film_response, imaging_ratio, pbrt_film_scale, validate_film_response, white_balance_matrix, white_balance_scale,
     SensorError,

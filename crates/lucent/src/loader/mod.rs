@@ -17,11 +17,13 @@ mod locate;
 mod materials;
 mod objects;
 pub mod pbrt;
+mod source;
 mod textures;
 mod values;
 
 pub use description::*;
 pub use export::{export_scene, ExportError, ExportSummary};
+pub use source::{is_pbrt_path, SceneOverrides, SceneSource};
 pub use values::*;
 
 use crate::render::RenderSettings;

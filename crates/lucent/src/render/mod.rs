@@ -17,7 +17,7 @@ pub use settings::{IntegratorKind, RenderSettings};
 /// [`RenderOptions::cancel`]).
 pub const CANCEL_PASS_INTERVAL: Duration = Duration::from_secs(5);
 
-use crate::film::{validate_film_response, Accumulator, Film, FilmError, SensorError};
+use crate::film::{validate_film_response, Accumulator, Film, FilmError, PartialError, PartialFilm, SensorError};
 use crate::integrator::{Integrator, PathIntegrator, RayStats, WhittedIntegrator};
 use crate::scene::Scene;
 use std::time::Duration;
@@ -119,6 +119,10 @@ pub enum RenderError {
     /// [`RenderOptions::cancel`] was set.
     #[error("the render was interrupted")]
     Interrupted,
+    /// [`render_partial`] was asked for no samples, or its time budget
+    /// ended before the first.
+    #[error(transparent)]
+    Partial(#[from] PartialError),
 }
 
 /// Render `scene` with `settings`: `settings.spp` samples per pixel (or
@@ -137,6 +141,35 @@ pub fn render(scene: &Scene, settings: &RenderSettings, options: RenderOptions) 
         spp: acc.spp(),
         nonfinite: report.nonfinite,
     })
+}
+
+/// Render only the sample indices `samples` of every pixel (of the render
+/// that takes samples `0..n` of each pixel's sequence), as a
+/// [`PartialFilm`] of the render with `fingerprint`
+/// ([`crate::loader::SceneSource::fingerprint`]). Partial films of disjoint
+/// ranges merge into exactly the film of one render of all their samples,
+/// so a render can be spread over processes or machines.
+///
+/// With a time limit the part may end early: its range is then
+/// `samples.start..` the last sample finished (an error if none was).
+pub fn render_partial(
+    scene: &Scene,
+    settings: &RenderSettings,
+    samples: std::ops::Range<u32>,
+    fingerprint: u64,
+    options: RenderOptions,
+) -> Result<(PartialFilm, RenderReport), RenderError> {
+    if samples.start >= samples.end {
+        return Err(PartialError::Empty(samples.start, samples.end).into());
+    }
+    let camera = scene.camera();
+    let mut acc = Accumulator::new(camera.width(), camera.height())?;
+    // Start the sample sequences at `samples.start`: the accumulator counts
+    // those samples as taken without holding them.
+    acc.add_spp(samples.start);
+    let report = render_into(scene, settings, &mut acc, RenderOptions { spp: Some(samples.end), ..options })?;
+    let part = PartialFilm::new(&acc, samples.start..acc.spp(), fingerprint, settings.tone_map, settings.srgb)?;
+    Ok((part, report))
 }
 
 /// Render `scene` into `acc`, from the samples it already holds up to
