@@ -15,7 +15,8 @@ use pyo3::types::PyDict;
 /// `ValueError` if the package is not importable (the extension module
 /// used on its own).
 fn lucent_error(py: Python<'_>, name: &str, text: String, kwargs: Option<&Bound<'_, PyDict>>) -> PyErr {
-    let made = py.import("lucent._errors").and_then(|m| m.getattr(name)).and_then(|cls| cls.call((text.clone(),), kwargs));
+    let made =
+        py.import("lucent._errors").and_then(|m| m.getattr(name)).and_then(|cls| cls.call((text.clone(),), kwargs));
     match made {
         Ok(exception) => PyErr::from_value(exception),
         Err(_) => PyValueError::new_err(text),

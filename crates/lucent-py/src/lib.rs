@@ -7,9 +7,9 @@
 
 mod errors;
 mod image;
+mod partial;
 mod render;
 mod scene;
-mod source;
 
 use pyo3::prelude::*;
 
@@ -20,6 +20,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("MAX_SPP", lucent::loader::MAX_SPP)?;
     m.add_class::<scene::Source>()?;
     m.add_class::<render::Accumulation>()?;
+    m.add_class::<partial::Partial>()?;
     m.add_function(wrap_pyfunction!(scene::describe, m)?)?;
     m.add_function(wrap_pyfunction!(image::write_image, m)?)?;
     m.add_function(wrap_pyfunction!(image::read_image_file, m)?)?;

@@ -170,9 +170,9 @@ impl RunArgs<'_, '_> {
         match self.time {
             None => Ok(None),
             Some(t) if t.is_finite() && t > 0.0 && t < 1e9 => Ok(Some(Duration::from_secs_f64(t))),
-            Some(t) => {
-                Err(pyo3::exceptions::PyValueError::new_err(format!("time must be a positive number of seconds, got {t}")))
-            }
+            Some(t) => Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "time must be a positive number of seconds, got {t}"
+            ))),
         }
     }
 
@@ -228,14 +228,15 @@ pub fn report_dict<'py>(py: Python<'py>, report: &RenderReport) -> PyResult<Boun
 
 /// A render error as a Python exception. `Interrupted` only happens when
 /// the cancel flag was set, which is reported by its own exception first;
-/// a size problem is the scene's (a `SceneError`), anything else is a
-/// `RuntimeError` or `ValueError`.
+/// a size problem is the scene's (a `SceneError`), a partial render's
+/// problem a `PartialError`, anything else a `RuntimeError`.
 pub fn render_error(py: Python<'_>, e: RenderError) -> PyErr {
     match e {
         RenderError::Film(_) | RenderError::NoSamples | RenderError::FilmResponse(_) => {
             scene_error(py, &SceneError::new(None, e.to_string()))
         }
         RenderError::Interrupted => pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string()),
+        RenderError::Partial(e) => crate::errors::partial_error(py, e),
         e => runtime_error(e),
     }
 }

@@ -4,10 +4,10 @@
 //! line applies them.
 
 use crate::errors::scene_error;
+use crate::partial::{render_partial_py, Partial};
 use crate::render::{render_into_py, Accumulation, RunArgs};
-use crate::source::{SceneOverrides, SceneSource};
 use lucent::film::Accumulator;
-use lucent::loader::{SceneFile, SceneFormat, MAX_SPP};
+use lucent::loader::{SceneFile, SceneFormat, SceneOverrides, SceneSource, MAX_SPP};
 use lucent::render::IntegratorKind;
 use lucent::sampling::SamplerKind;
 use pyo3::exceptions::PyValueError;
@@ -19,7 +19,9 @@ use std::path::PathBuf;
 /// overrides).
 #[pyclass(module = "lucent._native", frozen)]
 pub struct Source {
-    pub(crate) inner: SceneSource,
+    inner: SceneSource,
+    /// Made from text (a Python dict): its path only names it, no file.
+    from_text: bool,
 }
 
 /// The overrides from keyword arguments, checked.
@@ -86,7 +88,7 @@ impl Source {
     ) -> PyResult<Source> {
         let o = overrides(width, height, spp, seed, integrator, sampler, max_depth, strict, env)?;
         let inner = py.detach(|| SceneSource::open(&path, &o)).map_err(|e| scene_error(py, &e))?;
-        Ok(Source { inner })
+        Ok(Source { inner, from_text: false })
     }
 
     /// Build a scene from JSON text in the scene-file schema; `path` names
@@ -111,7 +113,7 @@ impl Source {
         let inner = py
             .detach(|| SceneSource::from_file(SceneFile::parse(text, SceneFormat::Json, Some(path))?, &o))
             .map_err(|e| scene_error(py, &e))?;
-        Ok(Source { inner })
+        Ok(Source { inner, from_text: true })
     }
 
     /// Image width in pixels.
@@ -140,7 +142,9 @@ impl Source {
     /// The scene file and every file it read (meshes, images, included
     /// files), sorted.
     fn files(&self) -> Vec<String> {
-        self.inner.files().iter().map(|p| p.to_string_lossy().into_owned()).collect()
+        let text = self.inner.path().filter(|_| self.from_text);
+        let files = self.inner.files().into_iter().filter(|p| Some(p.as_path()) != text);
+        files.map(|p| p.to_string_lossy().into_owned()).collect()
     }
 
     /// The directory relative paths in the scene resolve against.
@@ -181,6 +185,25 @@ impl Source {
         let args = RunArgs { threads, time, progress: progress.as_ref() };
         let loaded = &self.inner.loaded;
         render_into_py(py, &loaded.scene, &loaded.settings, &mut acc.acc, spp, &args)
+    }
+
+    /// Render samples `start .. end` of every pixel (of the render of the
+    /// settings' `spp`) as a partial render, fingerprinted; returns it and
+    /// the render's figures. With `time`, the part may end early.
+    #[pyo3(signature = (start, end, *, threads=None, time=None, progress=None))]
+    fn render_partial<'py>(
+        &self,
+        py: Python<'py>,
+        start: u32,
+        end: u32,
+        threads: Option<usize>,
+        time: Option<f64>,
+        progress: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<(Partial, Bound<'py, PyDict>)> {
+        let fingerprint = self.fingerprint(py)?;
+        let args = RunArgs { threads, time, progress: progress.as_ref() };
+        let loaded = &self.inner.loaded;
+        render_partial_py(py, &loaded.scene, &loaded.settings, fingerprint, (start, end), &args)
     }
 }
 

@@ -25,8 +25,6 @@ def test_the_guide_examples_run(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     namespace: dict = {}
     for i, block in enumerate(python_blocks()):
-        if "render_partial" in block and not hasattr(__import__("lucent")._native, "Partial"):
-            pytest.xfail("partial renders wait for the library's PartialFilm (TEMPORARY)")
         try:
             exec(compile(block, f"{GUIDE}:block{i + 1}", "exec"), namespace)
         except Exception as e:  # pragma: no cover - the message says which block

@@ -183,3 +183,16 @@ def test_values_from_numpy_tuples_and_paths(tiny, tmp_path):
     d["sphere"][0]["center"] = (0, 1, 0)
     scene = lucent.Scene.from_dict(d)
     assert scene.render(progress=False).tobytes() == lucent.Scene.from_dict(tiny).render(progress=False).tobytes()
+
+
+def test_fingerprint_does_not_depend_on_where_the_scene_lies(tmp_path):
+    import shutil
+
+    for name in ("glass-and-metal.toml", "sky.hdr"):
+        shutil.copy(SCENES / name, tmp_path / name)
+    here, there = lucent.load(SCENES / "glass-and-metal.toml"), lucent.load(tmp_path / "glass-and-metal.toml")
+    assert here.fingerprint(spp=4) == there.fingerprint(spp=4)
+    d = here.to_dict()
+    assert lucent.Scene.from_dict(d, base_dir=SCENES).fingerprint() == lucent.Scene.from_dict(d, base_dir=tmp_path).fingerprint()
+    (tmp_path / "sky.hdr").write_bytes((SCENES / "sky.hdr").read_bytes()[:-1] + b"\0")
+    assert lucent.load(tmp_path / "glass-and-metal.toml").fingerprint(spp=4) != here.fingerprint(spp=4)

@@ -465,14 +465,13 @@ class Scene:
         or ``sum(parts)``). Partials covering ``0 .. spp`` add up to
         :meth:`render`'s image bit for bit. Keyword arguments as for
         :meth:`render` (``spp`` is the full render's count, which the
-        stratified sampler's sample layout depends on; ``time`` is not
-        accepted: a partial is a fixed range)."""
-        if time is not None:
-            raise TypeError("render_partial() takes no time budget: a partial render is a fixed range of samples")
+        stratified sampler's sample layout depends on). With ``time``, the
+        part may end early: its range is then ``start`` up to the last
+        sample finished."""
         ov = dict(width=width, height=height, spp=spp, seed=seed, integrator=integrator, sampler=sampler, max_depth=max_depth)
         source = self._source(**ov)
         with reporter(progress, "partial") as callback:
-            native, report = source.render_partial(int(start), int(end), threads=threads, progress=callback)
+            native, report = source.render_partial(int(start), int(end), threads=threads, time=time, progress=callback)
         self._finish(report)
         from ._partial import Partial
 
