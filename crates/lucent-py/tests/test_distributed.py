@@ -376,7 +376,7 @@ def test_entry_point_is_declared():
 
 def test_a_worker_killed_mid_render_changes_nothing(tmp_path):
     scene = lucent.load(write_scene(tmp_path))
-    size = dict(width=96, height=72, spp=48)
+    size = dict(width=128, height=96, spp=96)  # 48 chunks of 2: a few seconds on 2 workers
     reference = scene.render(progress=False, **size)
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, Client(
         cluster
@@ -386,18 +386,23 @@ def test_a_worker_killed_mid_render_changes_nothing(tmp_path):
         killed = []
 
         def kill_one(fraction):
-            # After the first chunk both workers are busy with the next ones.
+            # After the first chunk, kill a worker that is rendering one.
             if not killed:
-                victim = sorted(pids.values())[0]
-                os.kill(victim, signal.SIGKILL)
-                killed.append((victim, fraction))
+                busy = [address for address, keys in c.processing().items() if keys]
+                victim = sorted(busy)[0]
+                os.kill(pids[victim], signal.SIGKILL)
+                killed.append((pids[victim], fraction, c.processing()[victim]))
 
+        began = time.monotonic()
         image = ld.render(scene, c, chunk=2, progress=kill_one, cache_dir=str(tmp_path / "cache"), **size)
-        assert killed and killed[0][1] < 0.5
+        seconds = time.monotonic() - began
+        victim, fraction, in_flight = killed[0]
+        assert fraction == 1 / 48 and any(str(k).startswith("lucent-chunk-") for k in in_flight)
         assert identical(image, reference)
         # The nanny started a new worker process in place of the dead one.
         c.wait_for_workers(2, timeout=30)
-        assert killed[0][0] not in c.run(os.getpid).values()
+        assert victim not in c.run(os.getpid).values()
+        assert seconds > 1.0  # the kill came early in the render, not at its end
 
 
 def test_cli_errors_are_one_line(tmp_path):
