@@ -255,6 +255,42 @@ def test_scene_files_travel_in_the_archive(client, tmp_path):
         ld.render(other, client, chunk=4, progress=False, cache_dir=str(cache))
 
 
+PBRT_MAIN = """LookAt 0 1 -5  0 0.5 0  0 1 0
+Camera "perspective" "float fov" 50
+Sampler "sobol" "integer pixelsamples" 8
+Integrator "volpath" "integer maxdepth" 5
+Film "rgb" "integer xresolution" 32 "integer yresolution" 24 "string filename" "x.exr"
+WorldBegin
+LightSource "infinite" "string filename" "not-shipped.exr"
+Include "geometry.pbrt"
+"""
+
+PBRT_GEOMETRY = """Material "diffuse" "rgb reflectance" [0.8 0.2 0.1]
+Shape "sphere" "float radius" 1
+"""
+
+
+def test_pbrt_scene_with_include_and_env_override(client, tmp_path):
+    project = tmp_path / "project"
+    (project / "scene").mkdir(parents=True)
+    (project / "env").mkdir()
+    (project / "scene" / "main.pbrt").write_text(PBRT_MAIN)
+    (project / "scene" / "geometry.pbrt").write_text(PBRT_GEOMETRY)
+    sky = np.zeros((16, 32, 3), np.float32)
+    sky[:8], sky[8:] = [0.5, 0.6, 0.9], [0.2, 0.15, 0.1]
+    lucent.write(project / "env" / "sky.exr", sky)
+    scene = lucent.load(project / "scene" / "main.pbrt", strict=True, env=project / "env" / "sky.exr")
+    reference = scene.render(progress=False)
+    job = ld.prepare(scene)
+    assert job.archive.members == ("env/sky.exr", "scene/geometry.pbrt", "scene/main.pbrt")
+    assert job.archive.load_options == {"strict": True, "env": "env/sky.exr"}
+    assert job.spp == 8
+
+    project.rename(tmp_path / "moved-away")
+    image = ld.render(job, client, chunk=2, progress=False, cache_dir=str(tmp_path / "cache"))
+    assert identical(image, reference) and reference.mean() > 0.1
+
+
 def _tar(members):
     buffer = io.BytesIO()
     with tarfile.open(fileobj=buffer, mode="w") as tar:
@@ -283,6 +319,21 @@ def test_archive_refuses_unsafe_members(tmp_path, name, message):
     assert message in str(e.value)
     assert os.listdir(cache) == []  # the temporary directory is gone too
     assert not (tmp_path / "evil.txt").exists()
+
+
+def test_archive_unpacks_once_when_raced(tmp_path):
+    from concurrent.futures import ThreadPoolExecutor
+
+    scene = lucent.load(make_textured_project(tmp_path / "project"))
+    archive = _archive.build(scene)
+    cache = tmp_path / "cache"
+    with ThreadPoolExecutor(8) as pool:
+        results = list(pool.map(lambda _: _archive.unpack(archive.data, archive.sha256, str(cache)), range(16)))
+    assert {files for files, _ in results} == {str(cache / archive.sha256 / "files")}
+    assert os.listdir(cache) == [archive.sha256]  # every loser's temporary copy removed
+    assert (cache / archive.sha256 / "files" / "assets" / "stripes.png").read_bytes() == (
+        tmp_path / "project" / "assets" / "stripes.png"
+    ).read_bytes()
 
 
 def test_archive_refuses_damaged_bytes(tmp_path):
