@@ -57,7 +57,7 @@ def main():
     runs = []
     for n in [int(w) for w in args.workers.split(",")]:
         with LocalCluster(
-            n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None
+            n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0"
         ) as cluster, Client(cluster) as client:
             client.wait_for_workers(n)
             image, seconds = _time(lambda: distributed.render(scene, client, progress=False, **kwargs))

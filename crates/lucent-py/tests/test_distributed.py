@@ -163,10 +163,13 @@ def client(tmp_path_factory):
     """Two worker processes of one thread each, started in a directory of
     their own (not where any scene is)."""
     elsewhere = tmp_path_factory.mktemp("worker-cwd")
+    # dashboard_address=":0": a scheduler always serves HTTP (metrics, even
+    # with the dashboard off), on 8787 unless told otherwise, and two
+    # clusters at once would clash there.
     here = os.getcwd()
     os.chdir(elsewhere)
     try:
-        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
     finally:
         os.chdir(here)
     with cluster, Client(cluster) as c:
@@ -429,7 +432,7 @@ def test_a_worker_killed_mid_render_changes_nothing(tmp_path):
     scene = lucent.load(write_scene(tmp_path))
     size = dict(width=128, height=96, spp=96)  # 48 chunks of 2: a few seconds on 2 workers
     reference = scene.render(progress=False, **size)
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, Client(
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, Client(
         cluster
     ) as c:
         c.wait_for_workers(2)
