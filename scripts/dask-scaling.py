@@ -45,6 +45,7 @@ def main():
     parser.add_argument("--width", type=int, default=1024)
     parser.add_argument("--height", type=int, default=1024)
     parser.add_argument("--spp", type=int, default=64)
+    parser.add_argument("--chunk", type=int, help="samples per pixel per task (default: lucent.distributed's)")
     parser.add_argument("--workers", default="1,2", help="worker process counts to measure (default 1,2)")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
@@ -56,14 +57,19 @@ def main():
     print(f"local render ({os.cpu_count()} threads): {local_s:.2f} s", file=sys.stderr)
     runs = []
     for n in [int(w) for w in args.workers.split(",")]:
-        with LocalCluster(
-            n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0"
-        ) as cluster, Client(cluster) as client:
-            client.wait_for_workers(n)
-            image, seconds = _time(lambda: distributed.render(scene, client, progress=False, **kwargs))
+        with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
+            with Client(cluster) as client:
+                client.wait_for_workers(n)
+                image, seconds = _time(
+                    lambda: distributed.render(scene, client, chunk=args.chunk, progress=False, **kwargs)
+                )
         same = _identical(image, reference)
-        runs.append({"workers": n, "seconds": seconds, "bit_identical": same})
-        print(f"{n} worker process(es), 1 thread each: {seconds:.2f} s, bit-identical: {same}", file=sys.stderr)
+        chunk = args.chunk or distributed.default_chunk(args.spp, n)
+        runs.append({"workers": n, "chunk": chunk, "seconds": seconds, "bit_identical": same})
+        print(
+            f"{n} worker process(es), 1 thread each, chunks of {chunk} spp: {seconds:.2f} s, bit-identical: {same}",
+            file=sys.stderr,
+        )
     results["runs"] = runs
     if len(runs) >= 2:
         results["speedup"] = runs[0]["seconds"] / runs[-1]["seconds"]

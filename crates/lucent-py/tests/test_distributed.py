@@ -17,7 +17,6 @@ import subprocess
 import sys
 import tarfile
 import textwrap
-import time
 
 import numpy as np
 import pytest
@@ -211,7 +210,9 @@ def test_render_is_bit_identical_to_local(client, tmp_path):
     assert identical(image, reference)
     assert fractions == [0.25, 0.5, 0.75, 1.0]  # 4 chunks of 2 samples
 
-    part = ld.render(scene, client, chunk=3, progress=False, return_partial=True, cache_dir=str(tmp_path / "cache"), **SIZE)
+    part = ld.render(
+        scene, client, chunk=3, progress=False, return_partial=True, cache_dir=str(tmp_path / "cache"), **SIZE
+    )
     assert isinstance(part, lucent.Partial)
     assert (part.spp, part.missing) == (8, [])
     assert part.fingerprint == scene.fingerprint(**SIZE)
@@ -430,33 +431,29 @@ def test_entry_point_is_declared():
 
 def test_a_worker_killed_mid_render_changes_nothing(tmp_path):
     scene = lucent.load(write_scene(tmp_path))
-    size = dict(width=128, height=96, spp=96)  # 48 chunks of 2: a few seconds on 2 workers
+    size = dict(width=128, height=96, spp=96)  # 48 chunks of 2: seconds on 2 workers
     reference = scene.render(progress=False, **size)
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, Client(
-        cluster
-    ) as c:
-        c.wait_for_workers(2)
-        pids = c.run(os.getpid)
-        killed = []
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
+        with Client(cluster) as c:
+            c.wait_for_workers(2)
+            pids = c.run(os.getpid)
+            killed = []
 
-        def kill_one(fraction):
-            # After the first chunk, kill a worker that is rendering one.
-            if not killed:
-                busy = [address for address, keys in c.processing().items() if keys]
-                victim = sorted(busy)[0]
-                os.kill(pids[victim], signal.SIGKILL)
-                killed.append((pids[victim], fraction, c.processing()[victim]))
+            def kill_one(fraction):
+                # After the first chunk, kill a worker that is rendering one.
+                if not killed:
+                    busy = [address for address, keys in c.processing().items() if keys]
+                    victim = sorted(busy)[0]
+                    os.kill(pids[victim], signal.SIGKILL)
+                    killed.append((pids[victim], fraction, c.processing()[victim]))
 
-        began = time.monotonic()
-        image = ld.render(scene, c, chunk=2, progress=kill_one, cache_dir=str(tmp_path / "cache"), **size)
-        seconds = time.monotonic() - began
-        victim, fraction, in_flight = killed[0]
-        assert fraction == 1 / 48 and any(str(k).startswith("lucent-chunk-") for k in in_flight)
-        assert identical(image, reference)
-        # The nanny started a new worker process in place of the dead one.
-        c.wait_for_workers(2, timeout=30)
-        assert victim not in c.run(os.getpid).values()
-        assert seconds > 1.0  # the kill came early in the render, not at its end
+            image = ld.render(scene, c, chunk=2, progress=kill_one, cache_dir=str(tmp_path / "cache"), **size)
+            victim, fraction, in_flight = killed[0]
+            assert fraction == 1 / 48 and any(str(k).startswith("lucent-chunk-") for k in in_flight)
+            assert identical(image, reference)
+            # The nanny started a new worker process in place of the dead one.
+            c.wait_for_workers(2, timeout=30)
+            assert victim not in c.run(os.getpid).values()
 
 
 def test_cli_errors_are_one_line(tmp_path):

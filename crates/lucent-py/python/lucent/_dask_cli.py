@@ -14,7 +14,6 @@ exit status 2, as with ``lucent``.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import time
 from typing import List, Optional
