@@ -201,6 +201,15 @@ def test_sample_ranges_and_default_chunk():
         ld.sample_ranges(0, 8, 0)
 
 
+def test_prepare_refuses_what_a_job_cannot_carry(tmp_path):
+    scene = lucent.load(write_scene(tmp_path))
+    with pytest.raises(TypeError, match="unexpected keyword arguments for a distributed render: threads"):
+        ld.prepare(scene, threads=4)
+    job = ld.prepare(scene, spp=4, max_depth=2)
+    assert job.render_kwargs == {"spp": 4, "max_depth": 2}
+    assert job.fingerprint == scene.fingerprint(spp=4, max_depth=2) != scene.fingerprint(spp=4)
+
+
 def test_render_is_bit_identical_to_local(client, tmp_path):
     scene = lucent.load(write_scene(tmp_path))
     reference = scene.render(progress=False, **SIZE)

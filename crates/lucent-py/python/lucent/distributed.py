@@ -90,7 +90,18 @@ def sample_ranges(start: int, end: int, chunk: int) -> List[Tuple[int, int]]:
     return [(s, min(s + chunk, end)) for s in range(start, end, chunk)]
 
 
+#: The render settings besides size, samples and seed that a job carries.
+_OVERRIDES = ("integrator", "sampler", "max_depth")
+
+
 def _render_kwargs(width, height, spp, seed, overrides) -> Dict[str, Any]:
+    unknown = sorted(set(overrides) - set(_OVERRIDES))
+    if unknown:
+        raise TypeError(
+            f"unexpected keyword arguments for a distributed render: {', '.join(unknown)} "
+            f"(accepted besides spp, width, height, seed: {', '.join(_OVERRIDES)}; "
+            "threads per task are chunk_threads)"
+        )
     kwargs = {"width": width, "height": height, "spp": spp, "seed": seed, **overrides}
     return {k: v for k, v in kwargs.items() if v is not None}
 
