@@ -183,6 +183,9 @@ def test_values_from_numpy_tuples_and_paths(tiny, tmp_path):
     d["sphere"][0]["center"] = (0, 1, 0)
     scene = lucent.Scene.from_dict(d)
     assert scene.render(progress=False).tobytes() == lucent.Scene.from_dict(tiny).render(progress=False).tobytes()
+    # to_dict gives plain JSON values back.
+    assert scene.to_dict() == tiny
+    assert type(scene.to_dict()["camera"]["fov"]) is int
 
 
 def test_fingerprint_does_not_depend_on_where_the_scene_lies(tmp_path):

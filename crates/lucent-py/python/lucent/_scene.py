@@ -180,7 +180,8 @@ class Scene:
         """The scene as a dict in the schema of scene files (a copy:
         changing it does not change the scene). For a file, the parsed
         file; ``Scene.from_dict(scene.to_dict(), scene.base_dir)`` renders
-        the same image bit for bit. Not for pbrt-v4 scenes."""
+        the same image bit for bit. Values are plain JSON types (lists,
+        numbers, strings, booleans). Not for pbrt-v4 scenes."""
         if self._dict is None:
             self._refuse_pbrt("to_dict()")
             assert self._path is not None
@@ -188,7 +189,9 @@ class Scene:
                 return json.loads(_native.describe(self._path))
             except SceneError as e:
                 raise e from None
-        return copy.deepcopy(self._dict)
+        # Through its JSON text: plain lists, numbers and strings (NumPy
+        # values and tuples given to the builder come back as such).
+        return json.loads(self._dict_text()[0])
 
     def fingerprint(
         self,
