@@ -449,16 +449,16 @@ def test_a_worker_killed_mid_render_changes_nothing(tmp_path):
             killed = []
 
             def kill_one(fraction):
-                # After the first chunk, kill a worker that is rendering one.
-                if not killed:
-                    busy = [address for address, keys in c.processing().items() if keys]
-                    victim = sorted(busy)[0]
+                # Early in the render, kill a worker that is rendering a chunk.
+                busy = [address for address, keys in c.processing().items() if keys] if not killed else []
+                if busy:
+                    victim = min(busy)
                     os.kill(pids[victim], signal.SIGKILL)
                     killed.append((pids[victim], fraction, c.processing()[victim]))
 
             image = ld.render(scene, c, chunk=2, progress=kill_one, cache_dir=str(tmp_path / "cache"), **size)
             victim, fraction, in_flight = killed[0]
-            assert fraction == 1 / 48 and any(str(k).startswith("lucent-chunk-") for k in in_flight)
+            assert fraction < 0.5 and any(str(k).startswith("lucent-chunk-") for k in in_flight)
             assert identical(image, reference)
             # The nanny started a new worker process in place of the dead one.
             c.wait_for_workers(2, timeout=30)
