@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Build the `lucent` Python wheel and run its tests (crates/lucent-py/tests).
+#
+# Needs only the Rust toolchain and python3 (3.9 or later): the first run
+# makes a virtual environment in target/py-venv and installs maturin, numpy,
+# pytest, tqdm and dask[distributed] into it. The wheel is built in the
+# workspace's target directory (so the lucent crate built by
+# `cargo build --release` is reused), into target/wheels, and installed into
+# that environment. Extra arguments go to pytest.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+venv=target/py-venv
+if [ ! -x "$venv/bin/python" ]; then
+    echo "making $venv" >&2
+    python3 -m venv "$venv"
+fi
+py="$venv/bin/python"
+# Quiet, and only what is missing: a warm environment costs a second.
+if ! "$py" -c 'import maturin, numpy, pytest, tqdm, dask.distributed' 2>/dev/null; then
+    "$py" -m pip install --quiet --disable-pip-version-check 'maturin>=1.9.4,<2' numpy pytest tqdm 'dask[distributed]'
+fi
+
+rm -f target/wheels/lucent-*.whl
+"$venv/bin/maturin" build --release --locked --quiet -o target/wheels --interpreter "$py"
+"$py" -m pip install --quiet --disable-pip-version-check --force-reinstall --no-deps target/wheels/lucent-*.whl
+
+# Tests run from outside the repository so that `import lucent` is the
+# installed wheel, not the source tree.
+exec "$py" -m pytest -q --rootdir="$PWD" "$PWD/crates/lucent-py/tests" "$@"
