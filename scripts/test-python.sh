@@ -3,7 +3,8 @@
 #
 # Needs only the Rust toolchain and python3 (3.9 or later): the first run
 # makes a virtual environment in target/py-venv and installs maturin, numpy,
-# pytest, tqdm and dask[distributed] into it. The wheel is built in the
+# pytest, tqdm and dask[distributed] into it, at the versions pinned in
+# scripts/python-test-requirements.txt. The wheel is built in the
 # workspace's target directory (so the lucent crate built by
 # `cargo build --release` is reused), into target/wheels, and installed into
 # that environment. Extra arguments go to pytest.
@@ -17,8 +18,9 @@ if [ ! -x "$venv/bin/python" ]; then
 fi
 py="$venv/bin/python"
 # Quiet, and only what is missing: a warm environment costs a second.
+# The versions are pinned in scripts/python-test-requirements.txt.
 if ! "$py" -c 'import maturin, numpy, pytest, tqdm, dask.distributed' 2>/dev/null; then
-    "$py" -m pip install --quiet --disable-pip-version-check 'maturin>=1.9.4,<2' numpy pytest tqdm 'dask[distributed]'
+    "$py" -m pip install --quiet --disable-pip-version-check -r scripts/python-test-requirements.txt
 fi
 
 rm -f target/wheels/lucent-*.whl
