@@ -5,9 +5,9 @@
 # makes a virtual environment in target/py-venv and installs maturin, numpy,
 # pytest, tqdm and dask[distributed] into it, at the versions pinned in
 # scripts/python-test-requirements.txt. The wheel is built in the
-# workspace's target directory (so the lucent crate built by
-# `cargo build --release` is reused), into target/wheels, and installed into
-# that environment. Extra arguments go to pytest.
+# workspace's target directory with the `testing` profile (so the lucent
+# crate built by scripts/test.sh is reused), into target/wheels, and
+# installed into that environment. Extra arguments go to pytest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -23,8 +23,14 @@ if ! "$py" -c 'import maturin, numpy, pytest, tqdm, dask.distributed' 2>/dev/nul
     "$py" -m pip install --quiet --disable-pip-version-check -r scripts/python-test-requirements.txt
 fi
 
+# The `testing` profile (Cargo.toml), as scripts/test.sh builds the crates:
+# the lucent library built for `cargo test` is reused. The tests compare
+# with the command-line program of the same build.
+profile=testing
+cargo build --profile "$profile" --locked --quiet -p lucent-cli
+export LUCENT_CLI="$PWD/target/$profile/lucent"
 rm -f target/wheels/lucent-*.whl
-"$venv/bin/maturin" build --release --locked --quiet -o target/wheels --interpreter "$py"
+"$venv/bin/maturin" build --profile "$profile" --locked --quiet -o target/wheels --interpreter "$py"
 "$py" -m pip install --quiet --disable-pip-version-check --force-reinstall --no-deps target/wheels/lucent-*.whl
 
 # Tests run from outside the repository so that `import lucent` is the

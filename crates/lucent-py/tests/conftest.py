@@ -15,7 +15,7 @@ def cli_path() -> Path:
     """The `lucent` program of this checkout (`LUCENT_CLI` overrides)."""
     path = Path(os.environ.get("LUCENT_CLI", REPO / "target" / "release" / "lucent"))
     if not path.is_file():
-        pytest.fail(f"{path} is missing: build it with `cargo build --release -p lucent-cli` (scripts/test-python.sh does)")
+        pytest.fail(f"{path} is missing: build it with `cargo build --release -p lucent-cli` and point LUCENT_CLI at it (scripts/test-python.sh does)")
     return path
 
 
