@@ -104,7 +104,7 @@ fn render_path(
     settings.seed = seed;
     settings.sampler = sampler;
     settings.filter = Filter::Box { radius: 0.5 };
-    let integrator = PathIntegrator { max_depth, direct, regularize: false };
+    let integrator = PathIntegrator { max_depth, direct, regularize: false, max_indirect: None };
     let camera = scene.camera();
     let mut acc = Accumulator::new(camera.width(), camera.height()).unwrap();
     let report = render_into_with(scene, &settings, &integrator, &mut acc, RenderOptions::default()).unwrap();

@@ -243,3 +243,86 @@ fn resumed_renders_equal_uninterrupted_ones() {
     assert_eq!(parts.spp(), 8);
     assert_eq!(whole, parts);
 }
+
+// ---------------------------------------------------------- max_indirect --
+
+/// `max_indirect` clamps only indirect light. A convex diffuse sphere lit
+/// by a uniform environment and a small lamp (which reflects nothing)
+/// receives only direct light; an emitter seen directly or in a mirror is
+/// direct too: with the tiniest clamp their images are the unclamped
+/// images, bit for bit.
+#[test]
+fn max_indirect_leaves_direct_light_alone() {
+    let body = r#"
+        [camera]
+        eye = [0, 0, -4]
+        look_at = [0, 0, 0]
+        fov = 60
+        [render]
+        integrator = "path"
+        width = 24
+        height = 24
+        spp = 16
+        CLAMP
+        [environment]
+        color = [1, 1, 1]
+        [materials.white.diffuse]
+        color = [0.7, 0.7, 0.7]
+        [materials.mirror.conductor]
+        metal = "silver"
+        [materials.lamp.diffuse]
+        color = [0, 0, 0]
+        [[sphere]]
+        center = [0, 0, 0]
+        radius = 0.8
+        material = "SURFACE"
+        [[sphere]]
+        center = [1.2, 1.2, -1]
+        radius = 0.3
+        material = "lamp"
+        emission = [60, 60, 60]
+    "#;
+    for surface in ["white", "mirror"] {
+        let body = body.replace("SURFACE", surface);
+        let plain = render_path(&scene(&body.replace("CLAMP", "")));
+        let clamped = render_path(&scene(&body.replace("CLAMP", "max_indirect = 1e-6")));
+        assert_eq!(plain, clamped, "{surface}");
+        assert!(plain.pixels().iter().any(|c| c.max_element() > 30.0), "the lamp is seen, brighter than any clamp");
+    }
+}
+
+/// Inside a closed sphere whose wall emits Le and reflects with albedo ρ,
+/// L = Le + ρ·Le + ρ²·Le + …: the first two terms are direct (emission seen,
+/// and its one bounce off the wall), the rest indirect. With a negligible
+/// clamp only the direct terms remain, Le·(1 + ρ) = 0.75 for
+/// Le = ρ = 0.5; with a clamp above every contribution the image is the
+/// unclamped one, L = 1.
+#[test]
+fn max_indirect_removes_only_indirect_light() {
+    let body = r#"
+        [camera]
+        eye = [0, 0, 0]
+        look_at = [0, 0, 1]
+        fov = 90
+        [render]
+        integrator = "path"
+        width = 16
+        height = 16
+        spp = 128
+        max_depth = 10000
+        CLAMP
+        [materials.wall.diffuse]
+        color = [0.5, 0.5, 0.5]
+        [[sphere]]
+        radius = 3
+        material = "wall"
+        emission = [0.5, 0.5, 0.5]
+        two_sided = true
+    "#;
+    let (mean, _) = stats(&render_path(&scene(&body.replace("CLAMP", "max_indirect = 1e-9"))), 0.75);
+    assert!((mean - 0.75).abs() < 5e-3, "direct light only: image mean {mean}");
+    let plain = render_path(&scene(&body.replace("CLAMP", "")));
+    assert_eq!(render_path(&scene(&body.replace("CLAMP", "max_indirect = 1e6"))), plain);
+    let (mean, _) = stats(&plain, 1.0);
+    assert!((mean - 1.0).abs() < 5e-3, "unclamped: image mean {mean}");
+}

@@ -57,7 +57,19 @@ use crate::scene::Scene;
 /// non-specular bounce every BSDF is regularised
 /// ([`Bsdf::regularize`]): near-specular lobes are widened, which trades
 /// bias for much less noise in caustics.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+///
+/// With `max_indirect`, a contribution of *indirect* light whose largest
+/// component exceeds it is scaled down to it. Following the path from the
+/// camera, through any mirrors and glass, to the first non-specular
+/// surface it meets, light is direct if it comes to that surface straight
+/// from an emitter (or the environment), and indirect if it bounced on
+/// something else first: interreflections and caustics, where a rare path
+/// finds a small bright light through specular surfaces (a firefly).
+/// Direct light, including emitters and their highlights seen in mirrors
+/// and through glass, is never clamped; what is lost is the energy of
+/// indirect contributions above the clamp (the idea of the "clamp
+/// indirect" option of Blender's Cycles).
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PathIntegrator {
     /// Most scattering events along a path (1: direct light only).
     pub max_depth: u32,
@@ -66,6 +78,9 @@ pub struct PathIntegrator {
     /// Whether near-specular lobes are roughened after the first
     /// non-specular bounce (default false).
     pub regularize: bool,
+    /// The largest component of a contribution of indirect light (see
+    /// above); `None` (the default): no clamp.
+    pub max_indirect: Option<f32>,
 }
 
 /// Most interfaces a ray passes through in a row before the path (or, for
@@ -142,12 +157,29 @@ pub enum DirectLighting {
 impl PathIntegrator {
     /// A path tracer with multiple importance sampling.
     pub fn new(max_depth: u32) -> Self {
-        Self { max_depth, direct: DirectLighting::Mis, regularize: false }
+        Self { max_depth, direct: DirectLighting::Mis, regularize: false, max_indirect: None }
     }
 
     /// This integrator with pbrt-v4's `regularize` option set to `on`.
     pub fn with_regularize(self, on: bool) -> Self {
         Self { regularize: on, ..self }
+    }
+
+    /// This integrator with indirect contributions clamped to `max` (see
+    /// [`PathIntegrator::max_indirect`]).
+    pub fn with_max_indirect(self, max: Option<f32>) -> Self {
+        Self { max_indirect: max, ..self }
+    }
+
+    /// A contribution `c` to the pixel, clamped if it is `indirect` and a
+    /// clamp is set: scaled so that its largest component is at most
+    /// `max_indirect`, keeping its hue.
+    #[inline]
+    fn contribution(&self, c: Color, indirect: bool) -> Color {
+        match self.max_indirect {
+            Some(max) if indirect && c.max_element() > max => c * (max / c.max_element()),
+            _ => c,
+        }
     }
 
     /// The weight of light reached by a BSDF-sampled ray after a
@@ -196,6 +228,10 @@ impl Integrator for PathIntegrator {
         // and the BSDF pdf and point of the last bounce, for MIS.
         let mut specular_bounce = false;
         let mut any_non_specular = false;
+        // Whether a vertex before the last one scattered non-specularly:
+        // light found from the last one is then indirect (for
+        // `max_indirect`).
+        let mut indirect = false;
         let mut interfaces: Option<bool> = None;
         let mut skips = 0u32;
         let mut prev_pdf = 0.0f32;
@@ -209,11 +245,11 @@ impl Integrator for PathIntegrator {
                 if let Some((index, env)) = scene.environment_light() {
                     let le = env.le(ray.dir);
                     if depth == 0 || specular_bounce {
-                        radiance += beta * le;
+                        radiance += self.contribution(beta * le, indirect);
                     } else {
                         let p_light = lights.pmf(index)
                             * lights.emitters()[index].pdf_li(&prev_ctx, ray.dir, ray.origin, ray.dir);
-                        radiance += beta * le * self.bsdf_weight(prev_pdf, p_light);
+                        radiance += self.contribution(beta * le * self.bsdf_weight(prev_pdf, p_light), indirect);
                     }
                 }
                 break;
@@ -227,11 +263,11 @@ impl Integrator for PathIntegrator {
                     let le = area.emitted(si.p, si.uv, wo);
                     if le.max_element() > 0.0 {
                         if depth == 0 || specular_bounce {
-                            radiance += beta * le;
+                            radiance += self.contribution(beta * le, indirect);
                         } else {
                             let p_light =
                                 lights.pmf(index) * lights.emitters()[index].pdf_li(&prev_ctx, ray.dir, si.p, si.n);
-                            radiance += beta * le * self.bsdf_weight(prev_pdf, p_light);
+                            radiance += self.contribution(beta * le * self.bsdf_weight(prev_pdf, p_light), indirect);
                         }
                     }
                 }
@@ -262,7 +298,10 @@ impl Integrator for PathIntegrator {
             let u_light = sampler.get_1d();
             let u_point = sampler.get_2d();
             if !bsdf.is_specular() && self.direct != DirectLighting::BsdfOnly {
-                radiance += beta * self.sample_light(scene, &si, &bsdf, wo, u_light, u_point, stats, &mut interfaces);
+                let direct = beta * self.sample_light(scene, &si, &bsdf, wo, u_light, u_point, stats, &mut interfaces);
+                // The light's last bounce is this vertex: indirect if an
+                // earlier one was non-specular.
+                radiance += self.contribution(direct, any_non_specular);
             }
 
             // Continue the path by sampling the BSDF.
@@ -278,6 +317,9 @@ impl Integrator for PathIntegrator {
                 break;
             }
             specular_bounce = bs.specular;
+            // Light found by this bounce is indirect if a vertex before
+            // this one scattered non-specularly.
+            indirect = any_non_specular;
             any_non_specular |= !bs.specular;
             prev_pdf = bs.pdf;
             prev_ctx = ctx;

@@ -218,6 +218,7 @@ impl SceneFile {
             regularize: r.regularize,
             film_scale: r.film_scale.map_or(Color::ONE, Color::from),
             max_component: r.max_component.map(Positive::get),
+            max_indirect: r.max_indirect.map(Positive::get),
         })
     }
 

@@ -192,7 +192,9 @@ pub fn render_into(
             render_into_with(scene, settings, &integrator, acc, options)
         }
         IntegratorKind::Path => {
-            let integrator = PathIntegrator::new(settings.max_depth).with_regularize(settings.regularize);
+            let integrator = PathIntegrator::new(settings.max_depth)
+                .with_regularize(settings.regularize)
+                .with_max_indirect(settings.max_indirect);
             render_into_with(scene, settings, &integrator, acc, options)
         }
     }

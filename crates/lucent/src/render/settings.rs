@@ -37,6 +37,12 @@ pub struct RenderSettings {
     /// exceeds this is scaled down to it (pbrt-v4's `maxcomponentvalue`),
     /// taming fireflies at the cost of bias; `None` by default.
     pub max_component: Option<f32>,
+    /// Path tracer: if set, a contribution of indirect light (see
+    /// [`crate::integrator::PathIntegrator::max_indirect`]) whose largest
+    /// component exceeds this is scaled down to it, taming the fireflies
+    /// of caustics at the cost of bias where indirect light is that
+    /// bright; `None` by default.
+    pub max_indirect: Option<f32>,
 }
 
 /// The light transport algorithms.
@@ -72,7 +78,8 @@ impl IntegratorKind {
 impl RenderSettings {
     /// The defaults of `integrator`: 16 samples per pixel, its own depth
     /// and sampler, a box filter, classic tone mapping, sRGB output, seed 0,
-    /// no regularisation, film scale 1 and no sample clamp.
+    /// no regularisation, film scale 1 and no clamp of samples or of
+    /// indirect light.
     pub fn for_integrator(integrator: IntegratorKind) -> Self {
         Self {
             spp: 16,
@@ -86,6 +93,7 @@ impl RenderSettings {
             regularize: false,
             film_scale: Color::ONE,
             max_component: None,
+            max_indirect: None,
         }
     }
 }

@@ -146,6 +146,12 @@ pub struct RenderDesc {
     /// (pbrt-v4's `maxcomponentvalue`; default: none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_component: Option<Positive>,
+    /// Path tracer: a contribution of indirect light (light that bounced
+    /// before reaching the first non-specular surface seen from the camera)
+    /// whose largest channel exceeds this is scaled down to it (default:
+    /// none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_indirect: Option<Positive>,
 }
 
 /// The integrators, as named in scene files.
@@ -277,6 +283,7 @@ impl Default for RenderDesc {
             regularize: false,
             film_scale: None,
             max_component: None,
+            max_indirect: None,
         }
     }
 }

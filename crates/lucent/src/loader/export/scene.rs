@@ -351,6 +351,7 @@ fn render(scene: &Scene, s: &RenderSettings) -> RenderDesc {
         regularize: s.regularize,
         film_scale: (s.film_scale != Color::ONE).then(|| rgb(s.film_scale)),
         max_component: s.max_component.map(Positive),
+        max_indirect: s.max_indirect.map(Positive),
     }
 }
 
