@@ -40,10 +40,11 @@ use common::{ray_plane, smooth_step, RefCamera};
 use glam::DVec3;
 use lucent::film::{Accumulator, Filter};
 use lucent::integrator::{DirectLighting, PathIntegrator};
-use lucent::light::{Environment, EnvironmentMap};
+use lucent::light::{Emitter, Environment, EnvironmentMap};
 use lucent::prelude::*;
 use lucent::render::render_into_with;
 use lucent::sampling::SamplerKind;
+use lucent::shapes::Shape;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -370,7 +371,14 @@ fn closed_scenes_converge_to_the_geometric_series() {
         }
     }
     let boxed = b.build().unwrap();
-    assert_eq!(boxed.light_set().emitters().len(), 12);
+    // Each face's two triangles form a rectangle: one light per face,
+    // sampled as a spherical rectangle.
+    assert_eq!(boxed.light_set().emitters().len(), 6);
+    assert!(boxed
+        .light_set()
+        .emitters()
+        .iter()
+        .all(|e| matches!(e, Emitter::Area(a) if matches!(a.shape, Shape::Rectangle(_)))));
 
     let mut checks = Checks::new("closed scenes");
     for (name, scene) in [("sphere", &sphere), ("box", &boxed)] {

@@ -20,6 +20,7 @@ mod emitter;
 mod environment;
 pub mod equal_area;
 mod pbrt;
+mod rectangles;
 mod set;
 
 pub use area::{AreaLight, EmissionImage};
@@ -29,6 +30,7 @@ pub use environment::{
 };
 pub use equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere};
 pub use pbrt::{DistantLightParams, PointLightParams, SpotLightParams};
+pub(crate) use rectangles::merge_rectangles;
 pub use set::LightSet;
 // Moved to `shapes` with the rest of the triangle's light sampling.
 pub use crate::shapes::triangle_solid_angle;

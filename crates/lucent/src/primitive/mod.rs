@@ -101,6 +101,28 @@ impl Primitive {
         self
     }
 
+    /// Renumber the area lights of the primitive's faces: face light `l`
+    /// becomes `remap[l]` (after the builder merged lights). Where the
+    /// faces' new lights are no longer consecutive, the primitive gets a
+    /// per-face table.
+    pub(crate) fn remap_area_lights(&mut self, remap: &[u32]) {
+        let new = |l: u32| if l == NO_LIGHT { l } else { remap[l as usize] };
+        if let Some(table) = &self.face_lights {
+            self.face_lights = Some(table.iter().map(|&l| new(l)).collect());
+        }
+        if let Some(first) = self.area_light {
+            let faces = match &self.shape {
+                Shape::Mesh(mesh) => mesh.triangle_count() as u32,
+                _ => 1,
+            };
+            let consecutive = (0..faces).all(|f| new(first + f) == new(first) + f);
+            if !consecutive && self.face_lights.is_none() {
+                self.face_lights = Some((0..faces).map(|f| new(first + f)).collect());
+            }
+            self.area_light = Some(new(first));
+        }
+    }
+
     /// The same primitive placed with another transform (object to world);
     /// not emissive (the builder makes a placed copy emit).
     pub fn with_transform(&self, transform: Transform) -> Self {

@@ -8,12 +8,14 @@ mod distribution;
 mod pattern;
 mod rng;
 mod sampler;
+mod spherical_rectangle;
 mod warp;
 
 pub use distribution::{AliasTable, PiecewiseConstant1D, PiecewiseConstant2D};
 pub use pattern::{stratified_2d, PixelSampler};
 pub use rng::{mix_seed, Pcg32};
 pub use sampler::{Sampler, SamplerKind};
+pub use spherical_rectangle::SphericalRectangle;
 pub use warp::{
     concentric_disk, cosine_hemisphere, cosine_hemisphere_pdf, spherical_triangle, tent, uniform_sphere,
     uniform_triangle,

@@ -5,7 +5,7 @@ use crate::bsdf::ConductorFresnel;
 use crate::camera::Camera;
 use crate::color::Color;
 use crate::geometry::{Transform, Vec3};
-use crate::light::{AreaLight, EmissionImage, Emitter, Environment, Light, LightSet};
+use crate::light::{merge_rectangles, AreaLight, EmissionImage, Emitter, Environment, Light, LightSet};
 use crate::material::{Material, MaterialId};
 use crate::primitive::{merge_loose_triangles, BvhAggregate, Primitive};
 use crate::shapes::{Mesh, Shape, Sphere, Triangle};
@@ -325,6 +325,14 @@ impl SceneBuilder {
             self.expand(&instance, Transform::IDENTITY, None)?;
         }
 
+        // Emissive quads become one rectangular light each (sampled with
+        // one spherical-rectangle sample instead of two triangles).
+        if let Some((lights, remap)) = merge_rectangles(&self.area_lights) {
+            self.area_lights = lights;
+            for primitive in &mut self.primitives {
+                primitive.remap_area_lights(&remap);
+            }
+        }
         let merged = merge_loose_triangles(&self.primitives);
         let aggregate = BvhAggregate::new(&merged);
         let bounds = finite_bounds(&self.primitives);
@@ -493,7 +501,9 @@ fn area_shapes(primitive: &Primitive, emission: &Emission) -> Result<Vec<Shape>,
         Shape::Plane(_) => return Err(EmissionError::Plane),
         // Partial spheres, disks and cylinders keep their frame: their
         // world copy needs a similarity transform, as a sphere does.
-        shape @ (Shape::Disk(_) | Shape::Cylinder(_)) => vec![shape.transformed(&t).ok_or(EmissionError::Ellipsoid)?],
+        shape @ (Shape::Disk(_) | Shape::Cylinder(_) | Shape::Rectangle(_)) => {
+            vec![shape.transformed(&t).ok_or(EmissionError::Ellipsoid)?]
+        }
         // A "partial" sphere that is whole (pbrt's parameterisation) is
         // sampled as a sphere: by the cone it subtends.
         shape @ Shape::Sphere(s)

@@ -22,6 +22,7 @@ mod mesh;
 mod mesh_bvh;
 mod placement;
 mod plane;
+mod rectangle;
 mod sphere;
 mod triangle;
 pub mod watertight;
@@ -31,6 +32,7 @@ pub use disk::Disk;
 pub use mesh::{DefaultUv, Mesh};
 pub use mesh_bvh::{MeshBvh, MeshHit};
 pub use plane::Plane;
+pub use rectangle::Rectangle;
 pub use sphere::Sphere;
 pub use triangle::{
     triangle_dpduv, triangle_solid_angle, Triangle, MAX_SPHERICAL_SAMPLE_AREA, MIN_SPHERICAL_SAMPLE_AREA,
@@ -117,6 +119,8 @@ pub enum Shape {
     Disk(Disk),
     /// pbrt-v4's (partial, open) cylinder.
     Cylinder(Cylinder),
+    /// A rectangle (the shape of an emissive quad's light).
+    Rectangle(Rectangle),
 }
 
 /// A test that decides whether a candidate hit exists (alpha cut-outs, see
@@ -134,6 +138,7 @@ impl Shape {
             Shape::Mesh(s) => s.intersect(ray, t_max),
             Shape::Disk(s) => s.intersect(ray, t_max),
             Shape::Cylinder(s) => s.intersect(ray, t_max),
+            Shape::Rectangle(s) => s.intersect(ray, t_max),
         }
     }
 
@@ -170,6 +175,7 @@ impl Shape {
             Shape::Mesh(s) => s.intersect_p(ray, t_max),
             Shape::Disk(s) => s.intersect_p(ray, t_max),
             Shape::Cylinder(s) => s.intersect_p(ray, t_max),
+            Shape::Rectangle(s) => s.intersect(ray, t_max).is_some(),
         }
     }
 
@@ -182,6 +188,7 @@ impl Shape {
             Shape::Mesh(s) => s.bounds(),
             Shape::Disk(s) => s.bounds(),
             Shape::Cylinder(s) => s.bounds(),
+            Shape::Rectangle(s) => s.bounds(),
         }
     }
 
@@ -195,6 +202,7 @@ impl Shape {
             Shape::Mesh(s) => s.area(),
             Shape::Disk(s) => s.area(),
             Shape::Cylinder(s) => s.area(),
+            Shape::Rectangle(s) => s.area(),
         }
     }
 
@@ -207,6 +215,7 @@ impl Shape {
             Shape::Triangle(s) => s.sample_area(u),
             Shape::Disk(s) => s.sample_area(u),
             Shape::Cylinder(s) => s.sample_area(u),
+            Shape::Rectangle(s) => s.sample_area(u),
             Shape::Plane(_) | Shape::Mesh(_) => None,
         }
     }
@@ -220,6 +229,7 @@ impl Shape {
             Shape::Triangle(s) => s.sample_solid_angle(p, u),
             Shape::Disk(s) => s.sample_solid_angle(p, u),
             Shape::Cylinder(s) => s.sample_solid_angle(p, u),
+            Shape::Rectangle(s) => s.sample_solid_angle(p, u),
             Shape::Plane(_) | Shape::Mesh(_) => None,
         }
     }
@@ -233,6 +243,7 @@ impl Shape {
             Shape::Triangle(s) => s.pdf_solid_angle(p, p_shape),
             Shape::Disk(s) => s.pdf_solid_angle(p, p_shape),
             Shape::Cylinder(s) => s.pdf_solid_angle(p, p_shape),
+            Shape::Rectangle(s) => s.pdf_solid_angle(p, p_shape),
             Shape::Plane(_) | Shape::Mesh(_) => 0.0,
         }
     }
@@ -251,6 +262,7 @@ impl Shape {
             Shape::Mesh(_) => Vec3::ZERO,
             Shape::Disk(s) => s.normal(),
             Shape::Cylinder(s) => s.front_side(p),
+            Shape::Rectangle(s) => s.normal(),
         }
     }
 
@@ -264,6 +276,7 @@ impl Shape {
             Shape::Sphere(s) => s.transformed(t).map(Shape::Sphere),
             Shape::Disk(s) => s.transformed(t).map(Shape::Disk),
             Shape::Cylinder(s) => s.transformed(t).map(Shape::Cylinder),
+            Shape::Rectangle(s) => s.transformed(t).map(Shape::Rectangle),
             Shape::Plane(_) | Shape::Triangle(_) | Shape::Mesh(_) => None,
         }
     }
@@ -292,6 +305,11 @@ impl From<Disk> for Shape {
 impl From<Cylinder> for Shape {
     fn from(s: Cylinder) -> Self {
         Shape::Cylinder(s)
+    }
+}
+impl From<Rectangle> for Shape {
+    fn from(s: Rectangle) -> Self {
+        Shape::Rectangle(s)
     }
 }
 impl From<Triangle> for Shape {

@@ -498,6 +498,20 @@ impl Describer {
                 transform,
                 alpha,
             }),
+            Shape::Rectangle(r) => {
+                let (c, ex, ey) = r.corner_and_edges();
+                self.d.quad.push(QuadDesc {
+                    name: None,
+                    vertices: [c, c + ex, c + ex + ey, c + ey].map(v3),
+                    material,
+                    transform,
+                    emission,
+                    two_sided,
+                    reverse_orientation,
+                    emission_texture,
+                    alpha,
+                })
+            }
             Shape::Triangle(t) => self.d.triangle.push(TriangleDesc {
                 name: None,
                 vertices: t.vertices().map(v3),
