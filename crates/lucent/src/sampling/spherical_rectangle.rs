@@ -73,7 +73,8 @@ impl SphericalRectangle {
             z = -z;
             z0 = -z0;
         }
-        if !(z0 < 0.0) {
+        // In the plane (or NaN): nothing is subtended.
+        if z0 == 0.0 || z0.is_nan() {
             return None;
         }
         let (x1, y1) = (x0 + ex_len, y0 + ey_len);
