@@ -450,11 +450,14 @@ def test_a_worker_killed_mid_render_changes_nothing(tmp_path):
 
             def kill_one(fraction):
                 # Early in the render, kill a worker that is rendering a chunk.
-                busy = [address for address, keys in c.processing().items() if keys] if not killed else []
+                # Read the in-flight keys before the kill: once the scheduler notices the
+                # dead worker it drops the address from `processing()`.
+                processing = c.processing() if not killed else {}
+                busy = sorted(address for address, keys in processing.items() if keys and address in pids)
                 if busy:
-                    victim = min(busy)
+                    victim = busy[0]
                     os.kill(pids[victim], signal.SIGKILL)
-                    killed.append((pids[victim], fraction, c.processing()[victim]))
+                    killed.append((pids[victim], fraction, processing[victim]))
 
             image = ld.render(scene, c, chunk=2, progress=kill_one, cache_dir=str(tmp_path / "cache"), **size)
             victim, fraction, in_flight = killed[0]
