@@ -163,6 +163,8 @@ impl<I: Integrator> Pass<'_, I> {
         // with weight 1, and needs neither footprint nor filter value.
         let pixel_box = matches!(*self.filter, Filter::Box { radius } if radius == 0.5);
         let camera = self.scene.camera();
+        // A pinhole camera ignores its lens sample: skip drawing it.
+        let has_lens = camera.lens().is_some();
         let (film_scale, max_component) = (settings.film_scale, settings.max_component);
         (0..h)
             .into_par_iter()
@@ -183,7 +185,12 @@ impl<I: Integrator> Pass<'_, I> {
                             sampler.start_pixel_sample(x, y, index);
                             let u = sampler.pixel_2d();
                             let film_pos = Vec2::new(x as f32, y as f32) + u;
-                            let lens = sampler.get_2d();
+                            let lens = if has_lens {
+                                sampler.get_2d()
+                            } else {
+                                sampler.skip_2d();
+                                Vec2::ZERO
+                            };
                             let ray = camera.generate_ray(film_pos, lens);
                             let l = self.integrator.li(self.scene, &ray, sampler, &mut stats);
                             if !l.is_finite() {

@@ -51,31 +51,59 @@ const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 /// Seeded from the scene seed and the pixel coordinates only, so a pixel's
 /// samples are the same whichever thread renders it. With one sample per
 /// pixel the film sample is the pixel centre exactly.
+///
+/// The lens pattern is drawn from the generator right after the film
+/// pattern, but only when first asked for: a pinhole camera never asks, and
+/// the values are the same whenever they are drawn.
 #[derive(Clone, Debug)]
 pub struct PixelSampler {
     rng: Pcg32,
     film: Vec<Vec2>,
     lens: Vec<Vec2>,
+    spp: u32,
+    /// Whether `lens` holds this pixel's lens pattern yet.
+    lens_ready: bool,
 }
 
 impl PixelSampler {
     /// A sampler with room for `spp` samples.
     pub fn new(spp: u32) -> Self {
-        Self { rng: Pcg32::new(0, 0), film: Vec::with_capacity(spp as usize), lens: Vec::with_capacity(spp as usize) }
+        Self {
+            rng: Pcg32::new(0, 0),
+            film: Vec::with_capacity(spp as usize),
+            lens: Vec::with_capacity(spp as usize),
+            spp,
+            lens_ready: false,
+        }
     }
 
     /// Generate the samples of pixel `(x, y)`.
     pub fn start_pixel(&mut self, seed: u64, x: u32, y: u32, spp: u32) {
         self.rng = Pcg32::new(mix_seed(&[seed, x as u64, y as u64]), mix_seed(&[y as u64, x as u64]));
+        self.spp = spp;
+        self.lens_ready = false;
         if spp == 1 {
             self.film.clear();
             self.film.push(Vec2::splat(0.5));
+        } else {
+            stratified_2d(spp, &mut self.rng, &mut self.film);
+        }
+    }
+
+    /// Draw the lens pattern, the generator's next values after the film
+    /// pattern, if that has not been done for this pixel.
+    #[inline]
+    fn ensure_lens(&mut self) {
+        if self.lens_ready {
+            return;
+        }
+        if self.spp == 1 {
             self.lens.clear();
             self.lens.push(Vec2::new(self.rng.uniform(), self.rng.uniform()));
         } else {
-            stratified_2d(spp, &mut self.rng, &mut self.film);
-            stratified_2d(spp, &mut self.rng, &mut self.lens);
+            stratified_2d(self.spp, &mut self.rng, &mut self.lens);
         }
+        self.lens_ready = true;
     }
 
     /// Offset of sample `i` within the pixel, in `[0, 1)²`.
@@ -86,12 +114,15 @@ impl PixelSampler {
 
     /// Lens sample `i`, in `[0, 1)²`.
     #[inline]
-    pub fn lens(&self, i: usize) -> Vec2 {
+    pub fn lens(&mut self, i: usize) -> Vec2 {
+        self.ensure_lens();
         self.lens[i]
     }
 
-    /// The pixel's generator, for any further random decisions.
+    /// The pixel's generator, for any further random decisions (its state
+    /// follows the lens pattern, drawn now if it was not yet).
     pub fn rng(&mut self) -> &mut Pcg32 {
+        self.ensure_lens();
         &mut self.rng
     }
 }
@@ -137,6 +168,6 @@ mod tests {
         b.start_pixel(9, 5, 5, 16);
         b.start_pixel(9, 3, 4, 16);
         assert_eq!(a.film, b.film);
-        assert_eq!(a.lens, b.lens);
+        assert_eq!((0..16).map(|i| a.lens(i)).collect::<Vec<_>>(), (0..16).map(|i| b.lens(i)).collect::<Vec<_>>());
     }
 }

@@ -191,12 +191,26 @@ impl Sampler {
     fn stratified_2d(&mut self) -> Option<Vec2> {
         let d = self.dimension;
         self.dimension = self.dimension.wrapping_add(1);
-        let (pattern, _) = self.pattern.as_ref()?;
+        let (pattern, _) = self.pattern.as_mut()?;
         let i = self.stratum as usize;
         match d {
             0 => Some(pattern.film(i)),
             1 => Some(pattern.lens(i)),
             _ => None,
+        }
+    }
+
+    /// Pass over the next two dimensions without their values (the lens
+    /// dimensions, for a camera without a lens): what follows is the same
+    /// as after [`Sampler::get_2d`]. The stratified sampler then never draws
+    /// the pixel's lens pattern.
+    #[inline(always)]
+    pub fn skip_2d(&mut self) {
+        match self.kind {
+            SamplerKind::Stratified if self.dimension == 1 && self.pattern.is_some() => self.dimension += 1,
+            _ => {
+                self.get_2d();
+            }
         }
     }
 
