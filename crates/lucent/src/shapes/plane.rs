@@ -36,16 +36,22 @@ impl Plane {
         self.normal
     }
 
-    /// The intersection with `0 < t < t_max`, if any: `t = (p₀ - o)·n / d·n`.
-    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
+    /// The ray parameter of the intersection with `0 < t < t_max`, if any:
+    /// `t = (p₀ - o)·n / d·n`. Shadow rays need no more than this.
+    #[inline]
+    pub fn intersect_t(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         let denom = ray.dir.dot(self.normal);
         if denom == 0.0 {
             return None; // parallel
         }
         let t = (self.point - ray.origin).dot(self.normal) / denom;
-        if !(t > 0.0 && t < t_max) {
-            return None;
-        }
+        (t > 0.0 && t < t_max).then_some(t)
+    }
+
+    /// The intersection with `0 < t < t_max`, if any (see
+    /// [`Plane::intersect_t`]).
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
+        let t = self.intersect_t(ray, t_max)?;
         // Project the computed point back onto the plane; what remains is the
         // rounding of that projection, bounded relative to the magnitudes
         // involved.
