@@ -221,6 +221,34 @@ impl Bvh {
         self.traverse::<true, _, _>(ray, t_min, &mut t_max, prefetch_leaf, |first, count, _| test(first, count))
     }
 
+    /// The traversal of a tree that is one node (at most [`WIDTH`] leaves:
+    /// a scene of a handful of primitives, a mesh of a few triangles): one
+    /// box test, then the hit leaves in slot order, without a stack or
+    /// sorting. For the closest hit a leaf is skipped where its box starts
+    /// beyond the closest hit found so far.
+    #[inline(always)]
+    fn traverse_one_node<const ANY: bool, F>(&self, ray: &BoxRay, t_min: f32, t_max: &mut f32, mut test: F) -> bool
+    where
+        F: FnMut(u32, u32, &mut f32) -> bool,
+    {
+        let Some(node) = self.nodes.first() else { return false };
+        let (t, mut mask) = intersect_children(node, ray, t_min, *t_max);
+        let mut hit = false;
+        while mask != 0 {
+            let i = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            if ANY || t[i] <= *t_max {
+                if test(node.child[i], node.count[i], t_max) {
+                    hit = true;
+                    if ANY {
+                        return true;
+                    }
+                }
+            }
+        }
+        hit
+    }
+
     /// The traversal loop of both kinds of query. It follows the nearest
     /// hit child of each node directly and stacks the others, farthest
     /// first, with their entry distances; an entry whose box starts beyond
@@ -240,8 +268,8 @@ impl Bvh {
         F: FnMut(u32, u32, &mut f32) -> bool,
         P: Fn(u32),
     {
-        if self.nodes.is_empty() {
-            return false;
+        if self.nodes.len() <= 1 {
+            return self.traverse_one_node::<ANY, F>(ray, t_min, t_max, test);
         }
         let mut hit = false;
         let mut stack = Stack::new();
