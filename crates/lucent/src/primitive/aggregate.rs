@@ -53,52 +53,15 @@ impl BvhAggregate {
     }
 }
 
-/// The closest hit found so far by a closest-hit query.
-enum Nearest<'a> {
-    /// Nothing yet.
-    Nothing,
-    /// A primitive with a cheap distance test, hit at this `t`; its record
-    /// is built at the end, if it is still the closest.
-    Deferred(&'a Primitive, f32),
-    /// A hit whose record came with it (meshes, cut-outs, quadrics whose
-    /// test needs the hit point).
-    Found(SurfaceInteraction),
-}
-
-impl Nearest<'_> {
-    /// The closest hit's record.
-    #[inline]
-    fn into_interaction(self, ray: &Ray) -> Option<SurfaceInteraction> {
-        match self {
-            Nearest::Nothing => None,
-            Nearest::Found(si) => Some(si),
-            Nearest::Deferred(prim, t) => {
-                // The same test with the interval closed just above `t`
-                // finds the same hit (the tests are deterministic), now
-                // with its record.
-                let si = prim.intersect(ray, t.next_up());
-                debug_assert_eq!(si.as_ref().map(|si| si.t), Some(t));
-                si
-            }
-        }
-    }
-}
-
 /// Test every primitive of `prims`, keeping the closest hit in `closest`
 /// and shrinking `t_max` to it; returns whether any was hit.
 #[inline]
-fn closest_of<'a>(prims: &'a [Primitive], ray: &Ray, t_max: &mut f32, closest: &mut Nearest<'a>) -> bool {
+fn closest_of(prims: &[Primitive], ray: &Ray, t_max: &mut f32, closest: &mut Option<SurfaceInteraction>) -> bool {
     let mut hit = false;
     for prim in prims {
-        if prim.has_cheap_t() {
-            if let Some(t) = prim.intersect_t(ray, *t_max) {
-                *t_max = t;
-                *closest = Nearest::Deferred(prim, t);
-                hit = true;
-            }
-        } else if let Some(si) = prim.intersect(ray, *t_max) {
+        if let Some(si) = prim.intersect(ray, *t_max) {
             *t_max = si.t;
-            *closest = Nearest::Found(si);
+            *closest = Some(si);
             hit = true;
         }
     }
@@ -113,7 +76,7 @@ impl Aggregate for BvhAggregate {
             return only.intersect(ray, t_max);
         }
         let mut t_max = t_max;
-        let mut closest = Nearest::Nothing;
+        let mut closest = None;
         closest_of(&self.unbounded, ray, &mut t_max, &mut closest);
         let box_ray = BoxRay::new(ray.origin, ray.dir);
         // Box tests use a closed interval; primitives keep t < t_max open.
@@ -126,7 +89,7 @@ impl Aggregate for BvhAggregate {
                 closest_of(&self.bounded[first as usize..(first + count) as usize], ray, t_max, &mut closest)
             },
         );
-        closest.into_interaction(ray)
+        closest
     }
 
     fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
@@ -179,9 +142,9 @@ impl LinearAggregate {
 
 impl Aggregate for LinearAggregate {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
-        let (mut t_max, mut closest) = (t_max, Nearest::Nothing);
+        let (mut t_max, mut closest) = (t_max, None);
         closest_of(&self.primitives, ray, &mut t_max, &mut closest);
-        closest.into_interaction(ray)
+        closest
     }
 
     fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {

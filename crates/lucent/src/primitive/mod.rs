@@ -232,28 +232,6 @@ impl Primitive {
         })
     }
 
-    /// Whether [`Primitive::intersect_t`] is cheaper than
-    /// [`Primitive::intersect`]: a shape with a cheap distance test
-    /// ([`Shape::has_cheap_t`]) and no alpha cut-out.
-    #[inline]
-    pub fn has_cheap_t(&self) -> bool {
-        self.alpha.is_none() && self.shape.has_cheap_t()
-    }
-
-    /// The ray parameter of the nearest hit with `0 < t < t_max`: the `t`
-    /// that [`Primitive::intersect`] would report, so that intersecting
-    /// again with `t_max = t.next_up()` builds that hit's record. Aggregates
-    /// keep only this for each candidate and build one record, for the
-    /// closest (the way Embree defers its hit data to the closest hit).
-    #[inline]
-    pub fn intersect_t(&self, ray: &Ray, t_max: f32) -> Option<f32> {
-        match (&self.transform, &self.alpha) {
-            (None, None) => self.shape.intersect_t(ray, t_max),
-            (Some(t), None) => self.shape.intersect_t(&t.ray_to_object(ray), t_max),
-            (_, Some(_)) => self.intersect(ray, t_max).map(|si| si.t),
-        }
-    }
-
     /// Whether any hit with `0 < t < t_max` exists.
     #[inline]
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {

@@ -165,33 +165,6 @@ impl Shape {
         }
     }
 
-    /// Whether [`Shape::intersect_t`] finds the nearest hit's distance
-    /// more cheaply than [`Shape::intersect`] finds the whole record: then
-    /// an aggregate can keep only the distance of each candidate and build
-    /// the record once, for the closest (a record costs more than the test
-    /// for a sphere, whose uv needs an atan2 and an acos).
-    #[inline]
-    pub fn has_cheap_t(&self) -> bool {
-        match self {
-            Shape::Sphere(s) => s.clipping().is_none(),
-            Shape::Plane(_) | Shape::Triangle(_) => true,
-            _ => false,
-        }
-    }
-
-    /// The ray parameter of the closest intersection with `0 < t < t_max`:
-    /// exactly the `t` of [`Shape::intersect`], so that intersecting again
-    /// with `t_max` just above it finds the same hit.
-    #[inline]
-    pub fn intersect_t(&self, ray: &Ray, t_max: f32) -> Option<f32> {
-        match self {
-            Shape::Sphere(s) if s.clipping().is_none() => s.intersect_t(ray, t_max),
-            Shape::Plane(s) => s.intersect_t(ray, t_max),
-            Shape::Triangle(s) => s.intersect_t(ray, t_max).map(|(t, ..)| t),
-            _ => self.intersect(ray, t_max).map(|h| h.t),
-        }
-    }
-
     /// Whether any intersection with `0 < t < t_max` exists.
     #[inline]
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {

@@ -319,17 +319,6 @@ impl Sphere {
         (t < t_max).then_some(t)
     }
 
-    /// The ray parameter of the nearest hit with `0 < t < t_max`, without
-    /// the rest of the hit record; `None` for a partial sphere, whose
-    /// clipping needs the hit point (use [`Sphere::intersect`]).
-    #[inline]
-    pub fn intersect_t(&self, ray: &Ray, t_max: f32) -> Option<f32> {
-        match self.partial {
-            None => self.nearest_t(ray, t_max),
-            Some(_) => None,
-        }
-    }
-
     /// Whether the ray hits the sphere with `0 < t < t_max`.
     #[inline]
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
