@@ -80,7 +80,7 @@ impl Aggregate for BvhAggregate {
         closest_of(&self.unbounded, ray, &mut t_max, &mut closest);
         let box_ray = BoxRay::new(ray.origin, ray.dir);
         // Box tests use a closed interval; primitives keep t < t_max open.
-        self.bvh.traverse_closest(
+        self.bvh.traverse_closest_small(
             &box_ray,
             0.0,
             &mut t_max,
@@ -100,7 +100,7 @@ impl Aggregate for BvhAggregate {
             return true;
         }
         let box_ray = BoxRay::new(ray.origin, ray.dir);
-        self.bvh.traverse_any(
+        self.bvh.traverse_any_small(
             &box_ray,
             0.0,
             t_max,
