@@ -14,6 +14,8 @@
 # Builds nothing: needs target/release/lucent (cargo build --release -p
 # lucent-cli) and povray 3.7 on the PATH (Debian: apt-get install povray).
 # Environment overrides: LUCENT, POVRAY (the programs), WIDTH, HEIGHT, THREADS.
+# BASELINE=/path/to/an/older/lucent adds that build to every round (run between
+# lucent and POV-Ray), for before/after figures taken in the same sitting.
 #
 # lucent:  lucent render scenes/showcase.toml --width 800 --height 600 --spp 9 --threads 2
 # POV-Ray: povray +Iscenes/povray/showcase.pov +W800 +H600 +A0.0 +AM1 +R3 +WT2 -D
@@ -39,6 +41,7 @@ done
 [ "$rounds" -ge 1 ] || { echo "error: ROUNDS must be at least 1" >&2; exit 2; }
 
 lucent="${LUCENT:-target/release/lucent}"
+baseline="${BASELINE:-}"
 povray="${POVRAY:-povray}"
 width="${WIDTH:-800}"
 height="${HEIGHT:-600}"
@@ -48,6 +51,10 @@ pov_scene=scenes/povray/showcase.pov
 
 if [ ! -x "$lucent" ]; then
     echo "error: $lucent not found or not executable; build it first: cargo build --release -p lucent-cli" >&2
+    exit 1
+fi
+if [ -n "$baseline" ] && [ ! -x "$baseline" ]; then
+    echo "error: BASELINE=$baseline is not an executable file" >&2
     exit 1
 fi
 if ! command -v "$povray" >/dev/null 2>&1; then
@@ -66,6 +73,7 @@ trap 'rm -rf "$tmp"' EXIT
 lucent_out="$tmp/showcase-lucent-${width}x${height}.png"
 pov_out="$tmp/showcase-povray.png"
 lucent_cmd=("$lucent" render "$scene" --width "$width" --height "$height" --spp 9 --threads "$threads" -o "$lucent_out")
+baseline_cmd=("$baseline" render "$scene" --width "$width" --height "$height" --spp 9 --threads "$threads" -o "$tmp/baseline.png")
 pov_cmd=("$povray" "+I$pov_scene" "+W$width" "+H$height" +A0.0 +AM1 +R3 "+WT$threads" -D
          File_Gamma=sRGB +FN "+O$pov_out")
 
@@ -90,16 +98,23 @@ echo "machine:  $(nproc) CPUs, $(grep -m1 'model name' /proc/cpuinfo 2>/dev/null
 echo "povray:   $("$povray" --version 2>&1 | grep -m1 'POV-Ray' || echo unknown)"
 echo "load:     $(cut -d' ' -f1-3 /proc/loadavg) (1, 5, 15 min) before"
 echo "lucent:   ${lucent_cmd[*]}"
+[ -z "$baseline" ] || echo "baseline: ${baseline_cmd[*]}"
 echo "POV-Ray:  ${pov_cmd[*]}"
 echo "${width}×${height}, 9 samples per pixel, $threads threads, rounds: $rounds, alternating"
 echo
 
 lucent_times=()
+baseline_times=()
 pov_times=()
 for ((i = 1; i <= rounds; i++)); do
     t=$(timed "$tmp/lucent.log" "${lucent_cmd[@]}")
     lucent_times+=("$t")
     printf 'round %d  lucent  %8.3f s\n' "$i" "$t"
+    if [ -n "$baseline" ]; then
+        t=$(timed "$tmp/baseline.log" "${baseline_cmd[@]}")
+        baseline_times+=("$t")
+        printf 'round %d  baseline%8.3f s\n' "$i" "$t"
+    fi
     t=$(timed "$tmp/povray.log" "${pov_cmd[@]}")
     pov_times+=("$t")
     printf 'round %d  POV-Ray %8.3f s\n' "$i" "$t"
@@ -111,6 +126,10 @@ echo
 echo "load:     $(cut -d' ' -f1-3 /proc/loadavg) (1, 5, 15 min) after"
 echo "median    lucent  ${ml} s   POV-Ray ${mp} s"
 awk -v l="$ml" -v p="$mp" 'BEGIN { printf "ratio     POV-Ray / lucent = %.2f: lucent is %.2f× as fast as POV-Ray\n", p / l, p / l }'
+if [ -n "$baseline" ]; then
+    mb=$(median "${baseline_times[@]}")
+    awk -v l="$ml" -v b="$mb" -v p="$mp" 'BEGIN { printf "baseline  median %.3f s: POV-Ray / baseline = %.2f; baseline / lucent = %.3f\n", b, p / b, b / l }'
+fi
 
 if [ -n "$keep" ]; then
     mkdir -p "$keep"
