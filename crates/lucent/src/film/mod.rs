@@ -26,9 +26,9 @@ pub use tonemap::{srgb_encode, ToneMap};
 pub use crate::texels::ImageSizeError as FilmError;
 pub use crate::texels::{check_image_size, MAX_DIMENSION, MAX_PIXELS};
 
-use rayon::prelude::*;
 use crate::color::Color;
 use crate::texels::TexelGrid;
+use rayon::prelude::*;
 
 /// A linear-radiance image, stored in a [`TexelGrid`].
 #[derive(Clone, Debug, PartialEq)]
