@@ -278,12 +278,10 @@ impl Bvh {
         while mask != 0 {
             let i = mask.trailing_zeros() as usize;
             mask &= mask - 1;
-            if ANY || t[i] <= *t_max {
-                if test(node.child[i], node.count[i], t_max) {
-                    hit = true;
-                    if ANY {
-                        return true;
-                    }
+            if (ANY || t[i] <= *t_max) && test(node.child[i], node.count[i], t_max) {
+                hit = true;
+                if ANY {
+                    return true;
                 }
             }
         }
