@@ -123,6 +123,38 @@ fn scene_bvh_equals_brute_force() {
     }
 }
 
+/// Scenes of a handful of primitives: their top-level tree is often a
+/// single node, which is traversed without a stack (one box test, the hit
+/// leaves in slot order). Both queries must still match brute force, and
+/// the one-node case must actually occur.
+#[test]
+fn small_scene_bvh_equals_brute_force() {
+    let mut rng = Pcg32::new(17, 2);
+    let camera = Camera::new(Vec3::ZERO, Vec3::Z, Vec3::Y, 60.0, 4, 4).unwrap();
+    let mut scene = SceneBuilder::new(camera);
+    let m = scene.add_material(Material::matte(Color::ONE, 1.0).unwrap()).unwrap();
+    let mut one_node = 0;
+    for count in 1..=12 {
+        let all = random_primitives(&mut rng, m);
+        let prims: Vec<Primitive> = all.into_iter().take(count).collect();
+        let bvh = BvhAggregate::new(&prims);
+        let bounded: Vec<_> = prims.iter().filter(|p| !p.bounds().is_infinite()).map(|p| p.bounds()).collect();
+        one_node += (lucent::accel::Bvh::build(&bounded).nodes().len() == 1) as u32;
+        let list = LinearAggregate::new(prims);
+        for _ in 0..2000 {
+            let ray = Ray::new(rand_vec(&mut rng, 10.0), rand_dir(&mut rng) * (0.2 + 2.0 * rng.uniform()));
+            let t_max = if rng.uniform() < 0.3 { 8.0 * rng.uniform() } else { f32::INFINITY };
+            let (a, b) = (bvh.intersect(&ray, t_max), list.intersect(&ray, t_max));
+            assert_eq!(a.map(|h| h.t), b.map(|h| h.t), "closest hit differs ({count} primitives, ray {ray:?})");
+            if let (Some(a), Some(b)) = (a, b) {
+                assert_eq!((a.p, a.n), (b.p, b.n));
+            }
+            assert_eq!(bvh.intersect_p(&ray, t_max), list.intersect_p(&ray, t_max), "any hit differs ({count})");
+        }
+    }
+    assert!(one_node >= 6, "only {one_node} of 12 small scenes had a one-node tree");
+}
+
 #[test]
 fn instances_render_like_copies() {
     // One mesh placed three times with transforms, against three meshes

@@ -114,3 +114,37 @@ impl From<TexelGrid> for Film {
         Self { texels }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Pcg32;
+
+    /// The parallel conversion gives the bytes of converting the pixels one
+    /// by one, in order, across block boundaries (the film is larger than
+    /// one block, and its size not a multiple of it), for every tone map and
+    /// with and without the sRGB curve, on values below 0, in range and
+    /// above 1.
+    #[test]
+    fn to_rgb8_is_the_pixel_by_pixel_conversion() {
+        let mut film = Film::new(97, 61).unwrap();
+        let mut rng = Pcg32::new(4, 1);
+        for c in film.pixels_mut() {
+            *c = Color::new(rng.uniform() * 3.0 - 0.5, rng.uniform() * 1.2, rng.uniform() * 40.0);
+        }
+        for tone_map in [ToneMap::Classic, ToneMap::Clamp, ToneMap::Reinhard, ToneMap::Aces] {
+            for srgb in [false, true] {
+                let expected: Vec<u8> = film
+                    .pixels()
+                    .iter()
+                    .flat_map(|&c| tone_map.apply(c).to_array())
+                    .map(|v| {
+                        let v = if srgb { srgb_encode(v) } else { v };
+                        (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+                    })
+                    .collect();
+                assert_eq!(film.to_rgb8(tone_map, srgb), expected, "{tone_map:?}, srgb {srgb}");
+            }
+        }
+    }
+}

@@ -145,4 +145,27 @@ mod merge_tests {
         }
         assert!(hits > 500 && lit > 50, "{hits} hits, {lit} on lights");
     }
+
+    /// Fewer than eight triangles of a kind stay single primitives; the
+    /// other kind is merged on its own count.
+    #[test]
+    fn a_few_triangles_of_a_kind_stay_loose() {
+        let m = MaterialId::new(0);
+        let tri = |i: usize, smooth: bool| {
+            let c = Vec3::new(i as f32, 0.0, 0.0);
+            let normals = smooth.then_some([Vec3::Z; 3]);
+            Primitive::new(Triangle::new([c, c + Vec3::X, c + Vec3::Y], normals).unwrap(), Transform::IDENTITY, m)
+        };
+        let count = |prims: &[Primitive]| {
+            let loose = prims.iter().filter(|p| matches!(p.shape(), Shape::Triangle(_))).count();
+            let meshes = prims.iter().filter(|p| matches!(p.shape(), Shape::Mesh(_))).count();
+            (loose, meshes)
+        };
+        // One flat and one smooth triangle (the showcase): both stay.
+        assert_eq!(count(&merge_loose_triangles(&[tri(0, false), tri(1, true)])), (2, 0));
+        // Seven flat and eight smooth: the flat stay, the smooth become a mesh.
+        let prims: Vec<Primitive> = (0..7).map(|i| tri(i, false)).chain((0..8).map(|i| tri(i, true))).collect();
+        assert_eq!(count(&merge_loose_triangles(&prims)), (7, 1));
+        assert_eq!(MIN_MERGED_TRIANGLES, 8);
+    }
 }

@@ -487,6 +487,34 @@ mod tests {
         }
     }
 
+    /// Skipping two dimensions leaves every sampler where drawing them
+    /// would: the values that follow are the same, at the lens dimensions
+    /// (the stratified pattern's) and later ones (its generator's).
+    #[test]
+    fn skip_2d_is_get_2d_without_the_value() {
+        for kind in [SamplerKind::Independent, SamplerKind::Sobol, SamplerKind::Stratified] {
+            for spp in [1, 4, 9, 10] {
+                for skip_at in [1, 2, 3] {
+                    let mut a = Sampler::new(kind, 7, spp);
+                    let mut b = Sampler::new(kind, 7, spp);
+                    for i in 0..2 * spp {
+                        a.start_pixel_sample(3, 5, i);
+                        b.start_pixel_sample(3, 5, i);
+                        assert_eq!(a.pixel_2d(), b.pixel_2d());
+                        for _ in 1..skip_at {
+                            assert_eq!(a.get_2d(), b.get_2d());
+                        }
+                        a.get_2d();
+                        b.skip_2d();
+                        let after_a = (a.get_1d(), a.get_2d(), a.get_1d());
+                        let after_b = (b.get_1d(), b.get_2d(), b.get_1d());
+                        assert_eq!(after_a, after_b, "{kind:?}, spp {spp}, skip at {skip_at}, sample {i}");
+                    }
+                }
+            }
+        }
+    }
+
     /// The stratified sampler's first run of each pixel is exactly the
     /// classic renderer's pattern, and later runs are new patterns,
     /// stratified alike.

@@ -101,6 +101,21 @@ mod tests {
     }
 
     #[test]
+    fn intersect_t_is_the_distance_of_intersect() {
+        let pl = Plane::new(Vec3::new(0.3, -1.0, 0.2), Vec3::new(0.2, 3.0, -0.4)).unwrap();
+        for (o, d, t_max) in [
+            (Vec3::ZERO, Vec3::new(0.1, -1.0, 0.3), f32::INFINITY),
+            (Vec3::ZERO, Vec3::new(0.1, -1.0, 0.3), 0.5),
+            (Vec3::new(2.0, -4.0, 1.0), Vec3::new(-0.3, 1.0, 0.0), f32::INFINITY),
+            (Vec3::ZERO, Vec3::Y, f32::INFINITY),
+            (Vec3::ZERO, Vec3::X, f32::INFINITY),
+        ] {
+            let ray = Ray::new(o, d);
+            assert_eq!(pl.intersect_t(&ray, t_max), pl.intersect(&ray, t_max).map(|h| h.t), "{ray:?} {t_max}");
+        }
+    }
+
+    #[test]
     fn zero_normal_is_rejected() {
         assert_eq!(Plane::new(Vec3::ZERO, Vec3::ZERO), Err(ShapeError::ZeroNormal));
     }
