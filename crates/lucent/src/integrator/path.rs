@@ -116,7 +116,11 @@ pub(super) fn occluded(
         Some(p) => si.spawn_ray_to(p),
         None => (si.spawn_ray(dir), f32::INFINITY),
     };
-    if !scene.intersect_p(&ray, t_max) {
+    let blocked = match target {
+        Some(p) => scene.intersect_p_toward(&ray, t_max, p),
+        None => scene.intersect_p(&ray, t_max),
+    };
+    if !blocked {
         return false;
     }
     if !*interfaces.get_or_insert_with(|| may_have_interfaces(scene)) {

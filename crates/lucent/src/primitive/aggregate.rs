@@ -6,8 +6,8 @@
 //! tested against.
 
 use super::Primitive;
-use crate::accel::{BoxRay, Bvh};
-use crate::geometry::{Bounds3, Ray};
+use crate::accel::{BoxRay, Bvh, LightBuffer};
+use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::interaction::SurfaceInteraction;
 
 /// A collection of primitives that answers closest-hit and any-hit queries.
@@ -33,6 +33,9 @@ pub struct BvhAggregate {
     /// Bounded primitives, in BVH leaf order.
     bounded: Vec<Primitive>,
     unbounded: Vec<Primitive>,
+    /// Light buffers over `bounded` for the first few point lights (see
+    /// [`BvhAggregate::with_light_buffers`]).
+    light_buffers: Vec<LightBuffer>,
 }
 
 impl BvhAggregate {
@@ -43,13 +46,68 @@ impl BvhAggregate {
         let bounds: Vec<Bounds3> = bounded.iter().map(|p| p.bounds()).collect();
         let bvh = Bvh::build(&bounds);
         let ordered = bvh.primitives().iter().map(|&i| bounded[i as usize].clone()).collect();
-        Self { bvh, bounded: ordered, unbounded: unbounded.into_iter().cloned().collect() }
+        Self { bvh, bounded: ordered, unbounded: unbounded.into_iter().cloned().collect(), light_buffers: Vec::new() }
+    }
+
+    /// The most lights that get a light buffer: shadow queries look their
+    /// target up among the buffers one by one.
+    pub const MAX_LIGHT_BUFFERS: usize = 8;
+
+    /// Give the lights at `positions` (the first
+    /// [`BvhAggregate::MAX_LIGHT_BUFFERS`] distinct ones) a
+    /// [`LightBuffer`] over the bounded primitives, if there are at most
+    /// [`LightBuffer::MAX_PRIMITIVES`] of them: shadow rays towards such a
+    /// light then test only the primitives of their direction's cell (and
+    /// the unbounded ones) instead of traversing the BVH. Answers are the
+    /// same either way: the cells hold every primitive whose box the ray
+    /// can cross.
+    pub fn with_light_buffers(mut self, positions: &[Vec3]) -> Self {
+        let bounds: Vec<Bounds3> = self.bounded.iter().map(|p| p.bounds()).collect();
+        self.light_buffers.clear();
+        for &p in positions {
+            if self.light_buffers.len() == Self::MAX_LIGHT_BUFFERS {
+                break;
+            }
+            if self.light_buffers.iter().any(|b| b.light() == p) {
+                continue;
+            }
+            match LightBuffer::build(p, &bounds) {
+                Some(buffer) => self.light_buffers.push(buffer),
+                None => break, // too many primitives: none will do
+            }
+        }
+        self
+    }
+
+    /// Whether anything blocks `ray` for `0 < t < t_max`, where the ray
+    /// runs from its origin towards `target` (its direction `target −
+    /// origin`, `t_max ≤ 1`): a shadow ray to a point light. Uses the light
+    /// buffer of a light at exactly `target` if there is one, else the BVH.
+    #[inline]
+    pub(crate) fn intersect_p_toward(&self, ray: &Ray, t_max: f32, target: Vec3) -> bool {
+        let Some(buffer) = self.light_buffers.iter().find(|b| b.light() == target) else {
+            return self.intersect_p(ray, t_max);
+        };
+        if self.unbounded.iter().any(|p| p.intersect_p(ray, t_max)) {
+            return true;
+        }
+        let mut candidates = buffer.candidates(ray.origin);
+        while candidates != 0 {
+            let i = candidates.trailing_zeros() as usize;
+            candidates &= candidates - 1;
+            // A set bit past the end (the all-ones answer) names nothing.
+            if self.bounded.get(i).is_some_and(|p| p.intersect_p(ray, t_max)) {
+                return true;
+            }
+        }
+        false
     }
 
     /// Heap bytes of the top-level structure (meshes not included).
     pub fn memory_bytes(&self) -> usize {
         self.bvh.memory_bytes()
             + (self.bounded.capacity() + self.unbounded.capacity()) * std::mem::size_of::<Primitive>()
+            + self.light_buffers.iter().map(LightBuffer::memory_bytes).sum::<usize>()
     }
 }
 
@@ -153,5 +211,93 @@ impl Aggregate for LinearAggregate {
 
     fn bounds(&self) -> Bounds3 {
         self.primitives.iter().fold(Bounds3::EMPTY, |b, p| b.union(&p.bounds()))
+    }
+}
+
+#[cfg(test)]
+mod light_buffer_tests {
+    use super::*;
+    use crate::geometry::Transform;
+    use crate::material::MaterialId;
+    use crate::mesh::TriangleMesh;
+    use crate::sampling::Pcg32;
+    use crate::shapes::{Mesh, Plane, Sphere, Triangle};
+    use std::sync::Arc;
+
+    fn rand_vec(rng: &mut Pcg32, s: f32) -> Vec3 {
+        Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * (2.0 * s)
+    }
+
+    /// Shadow rays answered through the light buffers give the BVH's
+    /// answers, ray for ray: random scenes of spheres (some transformed
+    /// into ellipsoids), triangles, a small mesh and a plane; lights inside
+    /// and outside the scene; rays from random points and from points on
+    /// the surfaces (as shadow rays start).
+    #[test]
+    fn shadow_rays_through_light_buffers_match_the_bvh() {
+        let m = MaterialId::new(0);
+        let mut rng = Pcg32::new(31, 7);
+        let mut buffered = 0;
+        for round in 0..12 {
+            let mut prims = Vec::new();
+            for i in 0..(4 + round * 3) {
+                let c = rand_vec(&mut rng, 4.0);
+                let prim = match i % 4 {
+                    0 => Primitive::new(Sphere::new(c, 0.3 + rng.uniform()).unwrap(), Transform::IDENTITY, m),
+                    1 => {
+                        let t = Transform::scale(Vec3::new(0.5, 1.5, 0.8)).unwrap().then(&Transform::translate(c));
+                        Primitive::new(Sphere::new(Vec3::ZERO, 1.0).unwrap(), t, m)
+                    }
+                    2 => {
+                        let tri = Triangle::new([c, c + rand_vec(&mut rng, 1.5), c + rand_vec(&mut rng, 1.5)], None);
+                        match tri {
+                            Ok(tri) => Primitive::new(tri, Transform::IDENTITY, m),
+                            Err(_) => continue,
+                        }
+                    }
+                    _ => {
+                        let mesh = TriangleMesh {
+                            positions: vec![c, c + Vec3::X, c + Vec3::Y, c + Vec3::Z],
+                            indices: vec![[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]],
+                            ..TriangleMesh::default()
+                        };
+                        Primitive::new(Arc::new(Mesh::new(mesh).unwrap()), Transform::IDENTITY, m)
+                    }
+                };
+                prims.push(prim);
+            }
+            if round % 2 == 0 {
+                prims.push(Primitive::new(
+                    Plane::new(Vec3::new(0.0, -3.0, 0.0), Vec3::Y).unwrap(),
+                    Transform::IDENTITY,
+                    m,
+                ));
+            }
+            let lights = [rand_vec(&mut rng, 6.0), prims[0].bounds().min + Vec3::splat(0.01), Vec3::new(0.0, 9.0, 0.0)];
+            let plain = BvhAggregate::new(&prims);
+            let fast = BvhAggregate::new(&prims).with_light_buffers(&lights);
+            buffered += fast.light_buffers.len();
+            for _ in 0..3000 {
+                let light = lights[(rng.uniform() * 3.0) as usize % 3];
+                let origin = if rng.uniform() < 0.5 {
+                    rand_vec(&mut rng, 6.0)
+                } else {
+                    // A point on a surface, seen from a random point.
+                    let from = rand_vec(&mut rng, 8.0);
+                    match plain.intersect(&Ray::new(from, rand_vec(&mut rng, 1.0)), f32::INFINITY) {
+                        Some(si) => si.spawn_ray_to(light).0.origin,
+                        None => continue,
+                    }
+                };
+                let ray = Ray::new(origin, light - origin);
+                let t_max = 1.0 - 1e-4;
+                assert_eq!(
+                    fast.intersect_p_toward(&ray, t_max, light),
+                    plain.intersect_p(&ray, t_max),
+                    "round {round}, ray {ray:?} to {light:?}"
+                );
+            }
+        }
+        assert!(buffered >= 30, "only {buffered} buffers were built");
     }
 }

@@ -334,7 +334,17 @@ impl SceneBuilder {
             }
         }
         let merged = merge_loose_triangles(&self.primitives);
-        let aggregate = BvhAggregate::new(&merged);
+        // Point and spot lights get light buffers in scenes of few
+        // primitives (shadow rays then skip the BVH).
+        let positions: Vec<Vec3> = self
+            .lights
+            .iter()
+            .filter_map(|l| match l {
+                Light::Point { position, .. } | Light::Spot { position, .. } => Some(*position),
+                _ => None,
+            })
+            .collect();
+        let aggregate = BvhAggregate::new(&merged).with_light_buffers(&positions);
         let bounds = finite_bounds(&self.primitives);
         let mut emitters: Vec<Emitter> = self.area_lights.iter().cloned().map(Emitter::Area).collect();
         emitters.extend(self.lights.iter().cloned().map(Emitter::Delta));

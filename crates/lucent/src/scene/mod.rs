@@ -32,7 +32,7 @@ pub use error::{SceneError, SourceLocation};
 
 use crate::camera::Camera;
 use crate::color::Color;
-use crate::geometry::{Bounds3, Ray};
+use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::interaction::SurfaceInteraction;
 use crate::light::{AreaLight, Emitter, Environment, Light, LightSet};
 use crate::material::{Material, MaterialId};
@@ -160,6 +160,15 @@ impl Scene {
     #[inline]
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
         self.aggregate.intersect_p(ray, t_max)
+    }
+
+    /// [`Scene::intersect_p`] for a ray from its origin towards `target`
+    /// (direction `target − origin`, `t_max ≤ 1`): a point light's shadow
+    /// ray, which a light buffer may answer (see
+    /// [`BvhAggregate::with_light_buffers`]).
+    #[inline]
+    pub(crate) fn intersect_p_toward(&self, ray: &Ray, t_max: f32, target: Vec3) -> bool {
+        self.aggregate.intersect_p_toward(ray, t_max, target)
     }
 }
 
