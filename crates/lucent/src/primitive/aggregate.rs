@@ -64,6 +64,9 @@ impl BvhAggregate {
     pub fn with_light_buffers(mut self, positions: &[Vec3]) -> Self {
         let bounds: Vec<Bounds3> = self.bounded.iter().map(|p| p.bounds()).collect();
         self.light_buffers.clear();
+        if bounds.len() > LightBuffer::MAX_PRIMITIVES {
+            return self;
+        }
         for &p in positions {
             if self.light_buffers.len() == Self::MAX_LIGHT_BUFFERS {
                 break;
@@ -71,9 +74,10 @@ impl BvhAggregate {
             if self.light_buffers.iter().any(|b| b.light() == p) {
                 continue;
             }
-            match LightBuffer::build(p, &bounds) {
-                Some(buffer) => self.light_buffers.push(buffer),
-                None => break, // too many primitives: none will do
+            // `None` for a light that is not finite or boxes that are not:
+            // that light keeps the BVH.
+            if let Some(buffer) = LightBuffer::build(p, &bounds) {
+                self.light_buffers.push(buffer);
             }
         }
         self
