@@ -386,7 +386,10 @@ impl Report<'_> {
             ("bbox", json!(self.bbox())),
             (
                 "api",
-                json!("MeshBvh::intersect/occluded (binned-SAH eight-wide BVH, watertight triangle test), one ray at a time"),
+                json!(format!(
+                    "MeshBvh::intersect/occluded (binned-SAH eight-wide BVH, watertight triangle test, {} build), one ray at a time",
+                    lucent::accel::traversal_isa()
+                )),
             ),
             ("accel_bytes", json!(self.accel_bytes)),
             ("huge_pages", json!(self.huge_pages)),
@@ -411,8 +414,9 @@ impl Report<'_> {
             self.vertices
         )?;
         say!(
-            "lucent-{}, {} thread{}: build {:.4} s (median of {BUILDS}, {:.4} to {:.4}), {:.1} MB ({:.1} bytes/triangle{})",
+            "lucent-{} ({} traversal), {} thread{}: build {:.4} s (median of {BUILDS}, {:.4} to {:.4}), {:.1} MB ({:.1} bytes/triangle{})",
             env!("CARGO_PKG_VERSION"),
+            lucent::accel::traversal_isa(),
             self.threads,
             if self.threads == 1 { "" } else { "s" },
             median(b),

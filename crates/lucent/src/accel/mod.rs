@@ -10,9 +10,12 @@
 mod bvh;
 mod light_buffer;
 mod pages;
+mod simd;
 
 pub(crate) use bvh::prefetch;
 pub(crate) use pages::{PageArray, ZeroIsValid};
+pub use simd::traversal_isa;
+pub(crate) use simd::use_avx2;
 
 pub use bvh::{BoxRay, Bvh, BvhNode, MAX_LEAF_SIZE, WIDTH};
 pub use light_buffer::LightBuffer;

@@ -6,7 +6,7 @@
 //! tested against.
 
 use super::Primitive;
-use crate::accel::{BoxRay, Bvh, LightBuffer};
+use crate::accel::{use_avx2, BoxRay, Bvh, LightBuffer};
 use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::interaction::SurfaceInteraction;
 
@@ -130,6 +130,81 @@ fn closest_of(prims: &[Primitive], ray: &Ray, t_max: &mut f32, closest: &mut Opt
     hit
 }
 
+impl BvhAggregate {
+    /// [`Aggregate::intersect`] compiled for AVX2 (see `accel::simd`).
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    unsafe fn intersect_avx2(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
+        // SAFETY: the caller checked AVX2 (which includes AVX).
+        unsafe { self.intersect_as::<true>(ray, t_max) }
+    }
+
+    /// [`Aggregate::intersect_p`] compiled for AVX2.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    unsafe fn intersect_p_avx2(&self, ray: &Ray, t_max: f32) -> bool {
+        // SAFETY: as above.
+        unsafe { self.intersect_p_as::<true>(ray, t_max) }
+    }
+
+    /// The closest hit, with the box test of [`Bvh::traverse_closest_as`].
+    ///
+    /// # Safety
+    /// With `AVX`, the CPU must have AVX.
+    #[inline(always)]
+    unsafe fn intersect_as<const AVX: bool>(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
+        let mut t_max = t_max;
+        let mut closest = None;
+        closest_of(&self.unbounded, ray, &mut t_max, &mut closest);
+        let box_ray = BoxRay::new(ray.origin, ray.dir);
+        // Box tests use a closed interval; primitives keep t < t_max open.
+        // SAFETY: passed on from the caller.
+        unsafe {
+            self.bvh.traverse_closest_small_as::<AVX, _, _>(
+                &box_ray,
+                0.0,
+                &mut t_max,
+                |_| {},
+                |first, count, t_max| {
+                    closest_of(&self.bounded[first as usize..(first + count) as usize], ray, t_max, &mut closest)
+                },
+            )
+        };
+        closest
+    }
+
+    /// Whether anything is hit, with the box test of
+    /// [`Bvh::traverse_any_as`].
+    ///
+    /// # Safety
+    /// With `AVX`, the CPU must have AVX.
+    #[inline(always)]
+    unsafe fn intersect_p_as<const AVX: bool>(&self, ray: &Ray, t_max: f32) -> bool {
+        if self.unbounded.iter().any(|p| p.intersect_p(ray, t_max)) {
+            return true;
+        }
+        let box_ray = BoxRay::new(ray.origin, ray.dir);
+        // SAFETY: passed on from the caller.
+        unsafe {
+            self.bvh.traverse_any_small_as::<AVX, _, _>(
+                &box_ray,
+                0.0,
+                t_max,
+                |_| {},
+                |first, count| {
+                    self.bounded[first as usize..(first + count) as usize].iter().any(|p| p.intersect_p(ray, t_max))
+                },
+            )
+        }
+    }
+}
+
 impl Aggregate for BvhAggregate {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
         if let ([only], []) = (self.bounded.as_slice(), self.unbounded.as_slice()) {
@@ -137,40 +212,26 @@ impl Aggregate for BvhAggregate {
             // were merged into): its own bounds test is all the BVH adds.
             return only.intersect(ray, t_max);
         }
-        let mut t_max = t_max;
-        let mut closest = None;
-        closest_of(&self.unbounded, ray, &mut t_max, &mut closest);
-        let box_ray = BoxRay::new(ray.origin, ray.dir);
-        // Box tests use a closed interval; primitives keep t < t_max open.
-        self.bvh.traverse_closest_small(
-            &box_ray,
-            0.0,
-            &mut t_max,
-            |_| {},
-            |first, count, t_max| {
-                closest_of(&self.bounded[first as usize..(first + count) as usize], ray, t_max, &mut closest)
-            },
-        );
-        closest
+        #[cfg(target_arch = "x86_64")]
+        if use_avx2() {
+            // SAFETY: the CPU has AVX2.
+            return unsafe { self.intersect_avx2(ray, t_max) };
+        }
+        // SAFETY: the portable build needs no CPU feature.
+        unsafe { self.intersect_as::<false>(ray, t_max) }
     }
 
     fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
         if let ([only], []) = (self.bounded.as_slice(), self.unbounded.as_slice()) {
             return only.intersect_p(ray, t_max);
         }
-        if self.unbounded.iter().any(|p| p.intersect_p(ray, t_max)) {
-            return true;
+        #[cfg(target_arch = "x86_64")]
+        if use_avx2() {
+            // SAFETY: the CPU has AVX2.
+            return unsafe { self.intersect_p_avx2(ray, t_max) };
         }
-        let box_ray = BoxRay::new(ray.origin, ray.dir);
-        self.bvh.traverse_any_small(
-            &box_ray,
-            0.0,
-            t_max,
-            |_| {},
-            |first, count| {
-                self.bounded[first as usize..(first + count) as usize].iter().any(|p| p.intersect_p(ray, t_max))
-            },
-        )
+        // SAFETY: the portable build needs no CPU feature.
+        unsafe { self.intersect_p_as::<false>(ray, t_max) }
     }
 
     fn bounds(&self) -> Bounds3 {
@@ -303,5 +364,73 @@ mod light_buffer_tests {
             }
         }
         assert!(buffered >= 30, "only {buffered} buffers were built");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Transform;
+    use crate::material::MaterialId;
+    use crate::mesh::TriangleMesh;
+    use crate::sampling::Pcg32;
+    use crate::shapes::{Mesh, Plane, Shape, Sphere};
+    use std::sync::Arc;
+
+    /// The AVX2 build of the top-level queries answers as the portable one,
+    /// bit for bit, on scenes of 2 to 200 primitives (one-node trees and
+    /// deeper ones) with spheres, meshes and a plane.
+    #[test]
+    fn avx2_queries_equal_portable_ones() {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            let mut rng = Pcg32::new(8, 8);
+            let v = |rng: &mut Pcg32, s: f32| {
+                Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * (2.0 * s)
+            };
+            let m = MaterialId::new(0);
+            let mut tri = TriangleMesh::default();
+            for i in 0..30 {
+                let c = v(&mut rng, 1.0);
+                tri.positions.extend([c + v(&mut rng, 0.4), c + v(&mut rng, 0.4), c + v(&mut rng, 0.4)]);
+                tri.indices.push([3 * i, 3 * i + 1, 3 * i + 2]);
+            }
+            let mesh = Arc::new(Mesh::new(tri).unwrap());
+            let mut hits = 0;
+            for n in [2usize, 5, 40, 200] {
+                let mut prims = vec![Primitive::new(
+                    Plane::new(Vec3::new(0.0, -7.0, 0.0), Vec3::Y).unwrap(),
+                    Transform::IDENTITY,
+                    m,
+                )];
+                for i in 0..n {
+                    let at = Transform::translate(v(&mut rng, 6.0));
+                    prims.push(if i % 2 == 0 {
+                        Primitive::new(Sphere::new(Vec3::ZERO, 0.1 + 0.5 * rng.uniform()).unwrap(), at, m)
+                    } else {
+                        Primitive::new(Shape::Mesh(mesh.clone()), at, m)
+                    });
+                }
+                let aggregate = BvhAggregate::new(&prims);
+                for _ in 0..3000 {
+                    let ray = Ray::new(v(&mut rng, 8.0), v(&mut rng, 1.0));
+                    let t_max = if rng.uniform() < 0.3 { 8.0 * rng.uniform() } else { f32::INFINITY };
+                    // SAFETY: the portable build needs nothing; AVX2 was detected.
+                    let (portable, avx2) = unsafe {
+                        (aggregate.intersect_as::<false>(&ray, t_max), aggregate.intersect_avx2(&ray, t_max))
+                    };
+                    assert_eq!(portable.map(|h| (h.t, h.p, h.n)), avx2.map(|h| (h.t, h.p, h.n)), "{n}: {ray:?}");
+                    // SAFETY: as above.
+                    let (portable, avx2) = unsafe {
+                        (aggregate.intersect_p_as::<false>(&ray, t_max), aggregate.intersect_p_avx2(&ray, t_max))
+                    };
+                    assert_eq!(portable, avx2, "{n}: {ray:?}");
+                    hits += avx2 as usize;
+                }
+            }
+            assert!(hits > 1000, "only {hits} hits");
+            return;
+        }
+        eprintln!("no AVX2 on this CPU: only the portable queries run");
     }
 }
