@@ -10,9 +10,12 @@ use crate::sampling::SphericalRectangle;
 /// triangles that together form a rectangle), so that the light is sampled
 /// with one spherical-rectangle sample (Ureña et al. 2013,
 /// [`SphericalRectangle`]) instead of choosing one of two spherical
-/// triangles. Like a triangle, it is sampled by area where the solid angle
-/// it subtends is tiny or nearly a hemisphere
-/// ([`MIN_SPHERICAL_SAMPLE_AREA`], [`MAX_SPHERICAL_SAMPLE_AREA`]).
+/// triangles. It is sampled by area instead from points farther than
+/// [`AREA_SAMPLING_DIAGONALS`] diagonals from its centre, where the two
+/// densities differ little and area sampling costs a tenth as much, and,
+/// like a triangle, where the solid angle it subtends is tiny or nearly a
+/// hemisphere ([`MIN_SPHERICAL_SAMPLE_AREA`],
+/// [`MAX_SPHERICAL_SAMPLE_AREA`]).
 ///
 /// Parameterisation: `uv = (s, t)`, so `∂p/∂u = ex` and `∂p/∂v = ey`.
 ///
@@ -36,7 +39,25 @@ pub struct Rectangle {
     y: Vec3,
     ex_len: f32,
     ey_len: f32,
+    /// The centre, and the squared distance from it beyond which the
+    /// rectangle is sampled by area.
+    centre: Vec3,
+    area_sampling_distance2: f32,
 }
+
+/// From how far a rectangle light is sampled by area rather than by the
+/// solid angle it subtends, in diagonals from its centre.
+///
+/// Seen from a distance `d` of at least two diagonals, the distance `r` to
+/// any point of the rectangle is within `d ± d/4`, so the area density,
+/// converted to solid angle (`r² / (A cos θ)`), stays within a small factor
+/// of the uniform one (`1/Ω`) and adds little variance. It costs a tenth of
+/// the spherical rectangle's set-up (Ureña et al. 2013: four normals, the
+/// angles between them, an `atan2`). Measured on the Cornell box (1024²,
+/// 16 spp, against the Tungsten reference): relative MSE +1.1% against
+/// spherical sampling everywhere, for 11% less time; area sampling
+/// everywhere: +5.4% (see docs/performance.md).
+pub const AREA_SAMPLING_DIAGONALS: f32 = 2.0;
 
 impl Rectangle {
     /// The rectangle at `corner` with edges `ex` and `ey`, which must be
@@ -52,7 +73,19 @@ impl Rectangle {
             return Err(ShapeError::BadParameter("a rectangle's edges must be orthogonal".into()));
         }
         let (ex_len, ey_len) = (ex.length(), ey.length());
-        Ok(Self { corner, ex, ey, n: n / len, x: ex / ex_len, y: ey / ey_len, ex_len, ey_len })
+        let diagonal2 = ex_len * ex_len + ey_len * ey_len;
+        Ok(Self {
+            corner,
+            ex,
+            ey,
+            n: n / len,
+            x: ex / ex_len,
+            y: ey / ey_len,
+            ex_len,
+            ey_len,
+            centre: corner + 0.5 * (ex + ey),
+            area_sampling_distance2: AREA_SAMPLING_DIAGONALS * AREA_SAMPLING_DIAGONALS * diagonal2,
+        })
     }
 
     /// The corner and the two edges.
@@ -112,9 +145,14 @@ impl Rectangle {
         Some(ShapeSample { p: self.corner + u.x * self.ex + u.y * self.ey, n: self.n, pdf: 1.0 / self.area() })
     }
 
-    /// The spherical rectangle seen from `p`, if it is to be sampled as one.
+    /// The spherical rectangle seen from `p`, if it is to be sampled as one:
+    /// from within [`AREA_SAMPLING_DIAGONALS`] of the centre, where the
+    /// solid angle is in the range of spherical sampling.
     #[inline]
     fn spherical(&self, p: Vec3) -> Option<SphericalRectangle> {
+        if (p - self.centre).length_squared() >= self.area_sampling_distance2 {
+            return None;
+        }
         SphericalRectangle::from_frame(p, self.corner, [self.x, self.y, self.n], self.ex_len, self.ey_len).filter(|s| {
             let omega = s.solid_angle();
             (MIN_SPHERICAL_SAMPLE_AREA..=MAX_SPHERICAL_SAMPLE_AREA).contains(&omega)
@@ -122,8 +160,9 @@ impl Rectangle {
     }
 
     /// A point seen from `p`, from `u` in `[0, 1)²`: uniform over the solid
-    /// angle the rectangle subtends (density `1/Ω`), or by area where that
-    /// solid angle is outside the range of spherical sampling.
+    /// angle the rectangle subtends (density `1/Ω`), or by area from far
+    /// away ([`AREA_SAMPLING_DIAGONALS`]) and where that solid angle is
+    /// outside the range of spherical sampling.
     pub fn sample_solid_angle(&self, p: Vec3, u: Vec2) -> Option<ShapeSample> {
         match self.spherical(p) {
             Some(s) => Some(ShapeSample { p: s.sample(u), n: self.n, pdf: 1.0 / s.solid_angle() }),
@@ -202,6 +241,40 @@ mod tests {
         }
         let estimate = sum / m as f64;
         assert!((estimate - expected).abs() < 2e-3 * expected, "{estimate} vs {expected}");
+    }
+
+    /// The same closed form from points on both sides of the distance
+    /// where sampling switches to area ([`AREA_SAMPLING_DIAGONALS`]): both
+    /// estimators converge to it, and each sample's pdf is the one
+    /// `pdf_solid_angle` gives for its direction (what MIS relies on).
+    #[test]
+    fn irradiance_is_right_on_both_sides_of_the_area_sampling_distance() {
+        let (a, b) = (0.6f32, 0.3f32);
+        let switch = AREA_SAMPLING_DIAGONALS * (a * a + b * b).sqrt();
+        let f = |x: f32, y: f32| {
+            let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
+            0.5 * (x / sx * (y / sx).atan() + y / sy * (x / sy).atan())
+        };
+        let mut rng = Pcg32::new(9, 3);
+        for k in [0.3f32, 0.99, 1.01, 3.0] {
+            // The receiver below a corner, at the height h that puts it at
+            // k times the switching distance from the centre.
+            let h = ((k * switch).powi(2) - (a * a + b * b) / 4.0).sqrt();
+            let r = Rectangle::new(Vec3::new(0.0, 0.0, h), Vec3::X * a, Vec3::Y * b).unwrap();
+            let by_area = (r.centre.length_squared()) >= r.area_sampling_distance2;
+            assert_eq!(by_area, k > 1.0, "h = {h}");
+            let expected = f(a / h, b / h) as f64;
+            let m = 200_000;
+            let mut sum = 0.0f64;
+            for _ in 0..m {
+                let s = r.sample_solid_angle(Vec3::ZERO, Vec2::new(rng.uniform(), rng.uniform())).unwrap();
+                sum += (s.p.normalize().z / s.pdf) as f64;
+                let pdf = r.pdf_solid_angle(Vec3::ZERO, s.p);
+                assert!((pdf - s.pdf).abs() <= 1e-4 * s.pdf, "h = {h}: {pdf} vs {}", s.pdf);
+            }
+            let estimate = sum / m as f64;
+            assert!((estimate - expected).abs() < 3e-3 * expected, "h = {h}: {estimate} vs {expected}");
+        }
     }
 
     #[test]
