@@ -227,7 +227,7 @@ impl PartialFilm {
         parts.try_fold(first, |acc, p| acc.merge(p))
     }
 
-    /// The file's bytes (see the [module documentation](self)).
+    /// The file's bytes (laid out as the documentation of `film::partial` describes).
     pub fn to_bytes(&self) -> Vec<u8> {
         let mut out = Vec::with_capacity(HEADER + 8 * self.ranges.len() + 32 * self.sums.len() + 8);
         out.extend_from_slice(MAGIC);

@@ -6,7 +6,9 @@
 //! tested against.
 
 use super::Primitive;
-use crate::accel::{use_avx2, BoxRay, Bvh, LightBuffer};
+#[cfg(target_arch = "x86_64")]
+use crate::accel::use_avx2;
+use crate::accel::{BoxRay, Bvh, LightBuffer};
 use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::interaction::SurfaceInteraction;
 

@@ -2,7 +2,9 @@
 //! bottom level of lucent's two-level acceleration structure.
 
 use super::watertight::{intersect_block, intersect_block_filtered, TriangleBlock, WatertightRay};
-use crate::accel::{prefetch, use_avx2, BoxRay, Bvh, PageArray};
+#[cfg(target_arch = "x86_64")]
+use crate::accel::use_avx2;
+use crate::accel::{prefetch, BoxRay, Bvh, PageArray};
 use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::mesh::TriangleMesh;
 use rayon::prelude::*;
