@@ -4,7 +4,7 @@
 use super::watertight::{intersect_block, intersect_block_filtered, TriangleBlock, WatertightRay};
 #[cfg(target_arch = "x86_64")]
 use crate::accel::use_avx2;
-use crate::accel::{prefetch, BoxRay, Bvh, PageArray};
+use crate::accel::{prefetch, BoxRay, Bvh, PageArray, MAX_LEAF_SIZE};
 use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::mesh::TriangleMesh;
 use rayon::prelude::*;
@@ -61,11 +61,14 @@ impl MeshBvh {
         let primitives = bvh.primitives();
         let mut blocks = PageArray::zeroed(leaves.len());
         blocks.par_iter_mut().zip(leaves.par_iter()).with_min_len(256).for_each(|(block, &(first, count))| {
-            let tris: Vec<([Vec3; 3], u32)> = primitives[first as usize..(first + count) as usize]
-                .iter()
-                .map(|&i| (mesh.triangle(i as usize), i))
-                .collect();
-            *block = TriangleBlock::new(&tris);
+            // On the stack: a heap list per block was one allocation per
+            // four triangles.
+            let mut tris = [([Vec3::ZERO; 3], 0u32); MAX_LEAF_SIZE];
+            let leaf = &primitives[first as usize..(first + count) as usize];
+            for (slot, &i) in tris.iter_mut().zip(leaf) {
+                *slot = (mesh.triangle(i as usize), i);
+            }
+            *block = TriangleBlock::new(&tris[..leaf.len()]);
         });
         bvh.clear_primitives();
         Self { bvh, blocks, triangle_count }
