@@ -99,8 +99,19 @@ pub struct Sampler {
     rng_ready: bool,
     /// Hash of (seed, x, y): the per-pixel part of every scramble seed.
     pixel_hash: u64,
+    /// The pixel whose dimensions' scramble seeds `seeds` holds (Sobol).
+    seeds_pixel: Option<(u32, u32)>,
+    /// The scramble seeds of the current pixel's first dimensions, filled
+    /// as they are first drawn. They depend on the seed, the pixel and the
+    /// dimension only, and a render draws a pixel's samples one after
+    /// another, so every sample after the first reuses them.
+    seeds: Vec<[u32; 3]>,
     /// The sample index within the pixel.
     index: u32,
+    /// The index's bits reversed and put through the seed-independent
+    /// first step of the scramble ([`lk_premix`]): the part of every
+    /// dimension's index shuffle that is the same for all dimensions.
+    index_premixed: u32,
     /// The next dimension (Sobol).
     dimension: u32,
     /// The independent sampler's generator, re-seeded per pixel sample.
@@ -123,7 +134,10 @@ impl Sampler {
             pixel: (0, 0),
             rng_ready: false,
             pixel_hash: 0,
+            seeds_pixel: None,
+            seeds: Vec::new(),
             index: 0,
+            index_premixed: 0,
             dimension: 0,
             rng: Pcg32::new(seed, 0),
         }
@@ -148,7 +162,12 @@ impl Sampler {
                 self.rng = Pcg32::new(mix_seed(&[self.seed, x as u64, y as u64, index as u64]), 0);
             }
             SamplerKind::Sobol => {
-                self.pixel_hash = mix_seed(&[self.seed, x as u64, y as u64]);
+                if self.seeds_pixel != Some((x, y)) {
+                    self.pixel_hash = mix_seed(&[self.seed, x as u64, y as u64]);
+                    self.seeds_pixel = Some((x, y));
+                    self.seeds.clear();
+                }
+                self.index_premixed = lk_premix(index.reverse_bits());
             }
             SamplerKind::Stratified => {
                 let run = index / self.strata;
@@ -175,14 +194,20 @@ impl Sampler {
 
     /// The stratified sampler's generator for the dimensions after the
     /// lens, seeded by (seed, pixel, index) on first use.
-    #[inline]
+    #[inline(always)]
     fn stratified_rng(&mut self) -> &mut Pcg32 {
         if !self.rng_ready {
-            let (x, y) = self.pixel;
-            self.rng = Pcg32::new(mix_seed(&[self.seed, x as u64, y as u64, self.index as u64]), 1);
-            self.rng_ready = true;
+            self.seed_stratified_rng();
         }
         &mut self.rng
+    }
+
+    /// Seed the stratified sampler's generator (once per pixel sample).
+    #[inline(never)]
+    fn seed_stratified_rng(&mut self) {
+        let (x, y) = self.pixel;
+        self.rng = Pcg32::new(mix_seed(&[self.seed, x as u64, y as u64, self.index as u64]), 1);
+        self.rng_ready = true;
     }
 
     /// The stratified pattern's value for the current dimension, if it has
@@ -215,7 +240,7 @@ impl Sampler {
     }
 
     /// The next dimension, uniform in `[0, 1)`.
-    #[inline]
+    #[inline(always)]
     pub fn get_1d(&mut self) -> f32 {
         match self.kind {
             SamplerKind::Independent => self.rng.uniform(),
@@ -224,11 +249,15 @@ impl Sampler {
                 self.stratified_rng().uniform()
             }
             SamplerKind::Sobol => {
-                let (h_index, h_x, _) = self.dimension_hashes();
-                let j = nested_uniform_scramble(self.index, h_index);
+                let [h_index, h_x, _] = self.dimension_seeds();
                 // Sobol dimension 0 is the van der Corput sequence, the
-                // index's bits mirrored about the binary point.
-                to_unit_float(nested_uniform_scramble(j.reverse_bits(), h_x))
+                // index's bits mirrored about the binary point: the value
+                // is `nested_uniform_scramble(j.reverse_bits(), h_x)` with
+                // the shuffled index `j = nested_uniform_scramble(index,
+                // h_index)`, whose reversals cancel in pairs (see
+                // `lk_seeded`).
+                let j = lk_seeded(self.index_premixed, h_index).reverse_bits();
+                to_unit_float(lk_seeded(lk_premix(j), h_x).reverse_bits())
             }
         }
     }
@@ -251,10 +280,13 @@ impl Sampler {
                 Vec2::new(u, v)
             }
             SamplerKind::Sobol => {
-                let (h_index, h_x, h_y) = self.dimension_hashes();
-                let j = nested_uniform_scramble(self.index, h_index);
-                let x = nested_uniform_scramble(j.reverse_bits(), h_x);
-                let y = nested_uniform_scramble(sobol_1(j), h_y);
+                // As `get_1d`, with the second coordinate
+                // `nested_uniform_scramble(sobol_1(j), h_y)`, whose input
+                // reversal is folded into the tables of `sobol_1_reversed`.
+                let [h_index, h_x, h_y] = self.dimension_seeds();
+                let j = lk_seeded(self.index_premixed, h_index).reverse_bits();
+                let x = lk_seeded(lk_premix(j), h_x).reverse_bits();
+                let y = lk_seeded(lk_premix(sobol_1_reversed(j)), h_y).reverse_bits();
                 Vec2::new(to_unit_float(x), to_unit_float(y))
             }
         }
@@ -269,17 +301,37 @@ impl Sampler {
 
     /// Three 32-bit scramble seeds for the current dimension (index
     /// shuffle, first coordinate, second coordinate), and advance to the
-    /// next dimension.
-    #[inline]
-    fn dimension_hashes(&mut self) -> (u32, u32, u32) {
-        let d = self.dimension as u64;
+    /// next dimension: from the pixel's table where it has them, else
+    /// hashed (and kept, for the first [`MAX_KEPT_DIMENSIONS`]).
+    #[inline(always)]
+    fn dimension_seeds(&mut self) -> [u32; 3] {
+        let d = self.dimension;
         self.dimension = self.dimension.wrapping_add(1);
-        // Two SplitMix64 finalisations of (pixel hash, dimension) give 128
-        // well-mixed bits, of which 96 are used.
-        let a = splitmix64(self.pixel_hash ^ d.wrapping_mul(0x9E37_79B9_7F4A_7C15));
-        let b = splitmix64(a ^ 0xD1B5_4A32_D192_ED03);
-        (a as u32, (a >> 32) as u32, b as u32)
+        if let Some(&seeds) = self.seeds.get(d as usize) {
+            return seeds;
+        }
+        let seeds = dimension_hash(self.pixel_hash, d);
+        if self.seeds.len() == d as usize && self.seeds.len() < MAX_KEPT_DIMENSIONS {
+            self.seeds.push(seeds);
+        }
+        seeds
     }
+}
+
+/// How many dimensions' scramble seeds a Sobol sampler keeps for its
+/// current pixel: enough for paths of about 200 bounces (five dimensions
+/// each), 12 KiB. Deeper dimensions are hashed at every use.
+const MAX_KEPT_DIMENSIONS: usize = 1024;
+
+/// The three 32-bit scramble seeds of dimension `d` (index shuffle, first
+/// coordinate, second coordinate) of the pixel with `pixel_hash`: two
+/// SplitMix64 finalisations of (pixel hash, dimension) give 128 well-mixed
+/// bits, of which 96 are used.
+#[inline(never)]
+fn dimension_hash(pixel_hash: u64, d: u32) -> [u32; 3] {
+    let a = splitmix64(pixel_hash ^ (d as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    let b = splitmix64(a ^ 0xD1B5_4A32_D192_ED03);
+    [a as u32, (a >> 32) as u32, b as u32]
 }
 
 /// The SplitMix64 output function (Steele, Lea and Flood, "Fast Splittable
@@ -346,14 +398,43 @@ const SOBOL_1_BYTES: [[u32; 256]; 4] = {
 
 /// The second Sobol dimension of point `index`, in 0.32 fixed point: the
 /// XOR of the matrix columns of the index's set bits, gathered a byte at a
-/// time from [`SOBOL_1_BYTES`].
-#[inline]
+/// time from [`SOBOL_1_BYTES`]. (The sampler uses its reversal,
+/// [`sobol_1_reversed`].)
+#[cfg(test)]
 fn sobol_1(index: u32) -> u32 {
     let [b0, b1, b2, b3] = index.to_le_bytes();
     SOBOL_1_BYTES[0][b0 as usize]
         ^ SOBOL_1_BYTES[1][b1 as usize]
         ^ SOBOL_1_BYTES[2][b2 as usize]
         ^ SOBOL_1_BYTES[3][b3 as usize]
+}
+
+/// [`SOBOL_1_BYTES`] with every entry's bits reversed: the tables of the
+/// linear map `index ↦ reverse(sobol_1(index))` (reversing the bits of an
+/// XOR is the XOR of the reversed operands).
+const SOBOL_1_REVERSED_BYTES: [[u32; 256]; 4] = {
+    let mut t = [[0u32; 256]; 4];
+    let mut byte = 0;
+    while byte < 4 {
+        let mut x = 0;
+        while x < 256 {
+            t[byte][x] = SOBOL_1_BYTES[byte][x].reverse_bits();
+            x += 1;
+        }
+        byte += 1;
+    }
+    t
+};
+
+/// `sobol_1(index).reverse_bits()`, from [`SOBOL_1_REVERSED_BYTES`]: the
+/// bit order in which the Owen scramble works, without a reversal.
+#[inline]
+fn sobol_1_reversed(index: u32) -> u32 {
+    let [b0, b1, b2, b3] = index.to_le_bytes();
+    SOBOL_1_REVERSED_BYTES[0][b0 as usize]
+        ^ SOBOL_1_REVERSED_BYTES[1][b1 as usize]
+        ^ SOBOL_1_REVERSED_BYTES[2][b2 as usize]
+        ^ SOBOL_1_REVERSED_BYTES[3][b3 as usize]
 }
 
 /// The same as [`sobol_1`], one matrix column per set bit (the
@@ -383,15 +464,33 @@ fn sobol_1_bitwise(mut index: u32) -> u32 {
 /// this variant, with a seed-dependent odd multiplier, follows Vegdahl's
 /// refinement of its constants ("Building a Better LK Hash", 2021), which
 /// makes the flips of the leading digits depend on more of the seed.
-#[inline]
+///
+/// The sampler evaluates it in two parts, [`lk_premix`] and [`lk_seeded`],
+/// on bits it already holds reversed; this function is their definition.
+#[cfg(test)]
 fn nested_uniform_scramble(v: u32, seed: u32) -> u32 {
-    let mut x = v.reverse_bits();
-    x ^= x.wrapping_mul(0x3d20_adea);
+    lk_seeded(lk_premix(v.reverse_bits()), seed).reverse_bits()
+}
+
+/// The first step of the scramble, on reversed bits: the same for every
+/// seed, so an index's is computed once per sample.
+#[inline(always)]
+fn lk_premix(x: u32) -> u32 {
+    x ^ x.wrapping_mul(0x3d20_adea)
+}
+
+/// The seeded steps of the scramble, on reversed bits: for a fraction `v`,
+/// `nested_uniform_scramble(v, seed) = lk_seeded(lk_premix(r), seed)`
+/// reversed, with `r` the reversal of `v`. So where `v` is itself a
+/// reversal (`j.reverse_bits()`), `r` is `j` and no reversal is needed on
+/// the way in.
+#[inline(always)]
+fn lk_seeded(mut x: u32, seed: u32) -> u32 {
     x = x.wrapping_add(seed);
     x = x.wrapping_mul((seed >> 16) | 1);
     x ^= x.wrapping_mul(0x0552_6c56);
     x ^= x.wrapping_mul(0x53a2_2864);
-    x.reverse_bits()
+    x
 }
 
 #[cfg(test)]
@@ -695,6 +794,52 @@ mod tests {
                     assert!((mean - 0.25).abs() < 0.008, "E[u{a} u{b}] = {mean}");
                 }
             }
+        }
+    }
+
+    /// The Sobol sampler's values written out as Burley's definition
+    /// (module docs): seeds hashed from (seed, pixel, dimension), the index
+    /// shuffled, the point's coordinates scrambled. The sampler computes
+    /// them with kept seeds, a premixed index and reversals cancelled.
+    fn sobol_by_definition(seed: u64, x: u32, y: u32, index: u32, d: u32, two: bool) -> Vec2 {
+        let pixel_hash = mix_seed(&[seed, x as u64, y as u64]);
+        let a = splitmix64(pixel_hash ^ (d as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        let b = splitmix64(a ^ 0xD1B5_4A32_D192_ED03);
+        let (h_index, h_x, h_y) = (a as u32, (a >> 32) as u32, b as u32);
+        let j = nested_uniform_scramble(index, h_index);
+        let u = to_unit_float(nested_uniform_scramble(j.reverse_bits(), h_x));
+        let v = if two { to_unit_float(nested_uniform_scramble(sobol_1(j), h_y)) } else { 0.0 };
+        Vec2::new(u, v)
+    }
+
+    #[test]
+    fn sobol_values_equal_their_definition() {
+        let mut rng = Pcg32::new(3, 9);
+        let mut s = Sampler::new(SamplerKind::Sobol, 11, 16);
+        // Pixels revisited out of order, indices large and small, and
+        // paths longer than the kept seeds.
+        let pixels = [(0, 0), (5, 7), (0, 0), (5, 7), (5, 8), (1023, 0)];
+        for (round, &(x, y)) in pixels.iter().cycle().take(24).enumerate() {
+            for k in 0..6u32 {
+                let index = if k < 4 { k + round as u32 } else { rng.next_u32() };
+                s.start_pixel_sample(x, y, index);
+                let dims = if k == 5 { MAX_KEPT_DIMENSIONS as u32 + 40 } else { rng.next_u32() % 300 };
+                for d in 0..dims {
+                    let two = (d + k) % 3 != 0;
+                    let expected = sobol_by_definition(11, x, y, index, d, two);
+                    let got = if two { s.get_2d() } else { Vec2::new(s.get_1d(), 0.0) };
+                    assert_eq!(got, expected, "pixel ({x}, {y}), index {index}, dimension {d}");
+                }
+            }
+        }
+        assert_eq!(s.seeds.len(), MAX_KEPT_DIMENSIONS);
+    }
+
+    #[test]
+    fn sobol_1_reversed_is_sobol_1_reversed() {
+        let mut rng = Pcg32::new(5, 5);
+        for i in (0..4096u32).chain((0..10_000).map(|_| rng.next_u32())) {
+            assert_eq!(sobol_1_reversed(i), sobol_1(i).reverse_bits());
         }
     }
 
