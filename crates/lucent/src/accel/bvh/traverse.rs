@@ -437,6 +437,10 @@ impl Bvh {
                 }
             } else {
                 let node = &self.nodes[current.index as usize];
+                // The children's references are on the node's last cache
+                // line, which the box test does not read: ask for it now,
+                // or its load would wait for the test's result.
+                prefetch(node.child.as_ptr(), 1);
                 let (t, mask) = intersect_children::<AVX>(node, ray, t_min, *t_max);
                 if mask != 0 {
                     let at = |i: usize, t: f32| StackEntry { index: node.child[i], count: node.count[i], t };
