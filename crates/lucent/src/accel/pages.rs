@@ -47,23 +47,27 @@ impl<T: ZeroIsValid> PageArray<T> {
         Self { storage: Storage::Heap(vec![zero; len]) }
     }
 
-    /// The elements of `items`: moved as they are when the array stays on
-    /// the heap, copied into a mapping when it is large.
-    pub(crate) fn from_vec(mut items: Vec<T>) -> Self {
-        #[cfg(target_os = "linux")]
-        if let Some(mut m) = linux::Mapping::new(items.len()) {
-            m.as_mut_slice().copy_from_slice(&items);
-            return Self { storage: Storage::Mapped(m) };
-        }
-        items.shrink_to_fit();
-        Self { storage: Storage::Heap(items) }
-    }
-
     /// A copy of `items`.
     pub(crate) fn from_slice(items: &[T]) -> Self {
         let mut array = Self::zeroed(items.len());
         array.copy_from_slice(items);
         array
+    }
+
+    /// Keep the first `len` elements. A mapped array keeps its mapping:
+    /// the pages past the new end that were never written were never
+    /// backed by memory, so an array can be made as large as a bound on
+    /// its size, filled from the start, and cut to what was filled,
+    /// without a copy.
+    pub(crate) fn truncate(&mut self, len: usize) {
+        match &mut self.storage {
+            Storage::Heap(v) => {
+                v.truncate(len);
+                v.shrink_to_fit();
+            }
+            #[cfg(target_os = "linux")]
+            Storage::Mapped(m) => m.truncate(len),
+        }
     }
 
     /// Whether the array lives on memory mapped and advised for huge pages
@@ -174,6 +178,11 @@ mod linux {
             Some(Self { base, mapped, data, len })
         }
 
+        /// Keep the first `len` values (the mapping stays as it is).
+        pub(super) fn truncate(&mut self, len: usize) {
+            self.len = self.len.min(len);
+        }
+
         #[inline(always)]
         pub(super) fn as_slice(&self) -> &[T] {
             // SAFETY: `data` is aligned (a multiple of 2 MiB, at least the
@@ -227,11 +236,18 @@ mod tests {
         }
         let copy = large.clone();
         assert_eq!(&copy[..], &large[..]);
-        let moved = PageArray::from_vec(copy.to_vec());
-        assert!(moved.is_mapped() == large.is_mapped());
-        assert_eq!(&moved[..], &large[..]);
-        assert_eq!(&PageArray::from_vec(vec![Wide([1.0; 16], [2; 16])])[..], &[Wide([1.0; 16], [2; 16])]);
+        assert!(copy.is_mapped() == large.is_mapped());
+        assert_eq!(&PageArray::from_slice(&[Wide([1.0; 16], [2; 16])])[..], &[Wide([1.0; 16], [2; 16])]);
         assert_eq!(copy[n - 1].1[0], (n - 1) as u32);
         assert!(PageArray::<Wide>::default().is_empty());
+        for mut array in [large, PageArray::<Wide>::zeroed(10)] {
+            let was_mapped = array.is_mapped();
+            array.truncate(array.len() + 1);
+            array.truncate(3);
+            assert_eq!(array.len(), 3);
+            assert_eq!(array.is_mapped(), was_mapped);
+            array.truncate(0);
+            assert!(array.is_empty());
+        }
     }
 }

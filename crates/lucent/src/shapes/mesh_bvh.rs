@@ -37,20 +37,15 @@ pub struct MeshBvh {
 impl MeshBvh {
     /// Build over every triangle of `mesh`, using the current rayon pool.
     pub fn build(mesh: &TriangleMesh) -> Self {
-        let bounds: Vec<Bounds3> = (0..mesh.triangle_count())
-            .into_par_iter()
-            .with_min_len(1024)
-            .map(|i| {
-                let [a, b, c] = mesh.triangle(i);
-                let area2 = (b - a).cross(c - a).length_squared();
-                if area2 > 0.0 && area2.is_finite() {
-                    Bounds3::from_points(a, b).union_point(c)
-                } else {
-                    Bounds3::EMPTY
-                }
-            })
-            .collect();
-        let mut bvh = Bvh::build_for_blocks(&bounds);
+        let mut bvh = Bvh::build_for_blocks_by(mesh.triangle_count(), |i| {
+            let [a, b, c] = mesh.triangle(i);
+            let area2 = (b - a).cross(c - a).length_squared();
+            if area2 > 0.0 && area2.is_finite() {
+                Bounds3::from_points(a, b).union_point(c)
+            } else {
+                Bounds3::EMPTY
+            }
+        });
         let triangle_count = bvh.primitives().len();
         // One block per leaf, in leaf order; leaves then name their block.
         let mut leaves = Vec::new();

@@ -3,7 +3,7 @@
 
 use super::node::{BvhNode, EMPTY_NODE, MAX_LEAF_SIZE, WIDTH};
 use super::Bvh;
-use crate::accel::pages::PageArray;
+use crate::accel::pages::{PageArray, ZeroIsValid};
 use crate::geometry::Bounds3;
 use glam::Vec3A;
 
@@ -16,24 +16,30 @@ const PARALLEL_THRESHOLD: usize = 4096;
 #[derive(Clone, Copy, Debug)]
 struct SahCosts {
     traversal: f32,
-    block_size: usize,
+    /// log2 of the primitives a leaf block tests at once.
+    block_shift: u32,
 }
 
 impl SahCosts {
     /// Primitives tested one at a time (the top level of the scene): a
     /// node's box tests cost about as much as three primitive tests.
-    const PER_PRIMITIVE: SahCosts = SahCosts { traversal: 3.0, block_size: 1 };
+    const PER_PRIMITIVE: SahCosts = SahCosts { traversal: 3.0, block_shift: 0 };
     /// Leaves tested as one four-lane block (triangle meshes): a block test
     /// costs about what a node test costs, and a leaf of 1 to 4 triangles
     /// costs one block, so the heuristic favours splits into multiples of
     /// four (Embree's builders count leaf cost in blocks the same way).
-    const PER_BLOCK: SahCosts = SahCosts { traversal: 1.0, block_size: MAX_LEAF_SIZE };
+    const PER_BLOCK: SahCosts = SahCosts { traversal: 1.0, block_shift: MAX_LEAF_SIZE.trailing_zeros() };
 
-    /// Cost of testing `n` primitives in a leaf.
-    fn leaf(&self, n: usize) -> f32 {
-        n.div_ceil(self.block_size) as f32
+    /// Cost of testing `n` primitives in a leaf: the number of blocks, by
+    /// a shift (the sweep evaluates this for every bin of every node, and
+    /// a division was a fifth of the build's time).
+    #[inline(always)]
+    fn leaf(&self, n: u32) -> f32 {
+        ((n + (1 << self.block_shift) - 1) >> self.block_shift) as f32
     }
 }
+
+const _: () = assert!(MAX_LEAF_SIZE.is_power_of_two());
 
 /// Binary-tree depth beyond which the builder stops using the SAH and
 /// splits at the median, so that no input can make the tree deeper than
@@ -81,6 +87,7 @@ impl Aabb {
     }
 }
 
+#[derive(Clone, Copy)]
 struct BuildPrim {
     bounds: Aabb,
     index: u32,
@@ -88,6 +95,9 @@ struct BuildPrim {
     /// read while partitioning; it fills what would be padding).
     bin: u32,
 }
+
+// SAFETY: floats and integers only.
+unsafe impl ZeroIsValid for BuildPrim {}
 
 /// A subtree under construction.
 enum BuildNode {
@@ -122,153 +132,233 @@ fn bounds_of(prims: &[BuildPrim]) -> (Aabb, Aabb) {
     prims.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| (b.union(&p.bounds), c.union_point(p.bounds.centroid())))
 }
 
-/// Build the subtree over `prims` (the primitives `first..` of the final
-/// order). `known` is the bounds of their boxes and of their centroids,
-/// where the parent already has them from its bins; else they are computed
-/// here in one more pass over the primitives.
-fn build_recursive(
-    prims: &mut [BuildPrim],
-    first: usize,
-    depth: usize,
-    costs: SahCosts,
-    known: Option<(Aabb, Aabb)>,
-) -> BuildNode {
-    let (bounds, centroid_bounds) = if let Some(known) = known {
-        known
-    } else if prims.len() > PARALLEL_THRESHOLD {
-        use rayon::prelude::*;
-        prims
-            .par_chunks(PARALLEL_THRESHOLD)
-            .map(bounds_of)
-            .reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |(a, b), (c, d)| (a.union(&c), b.union(&d)))
-    } else {
-        bounds_of(prims)
-    };
-    let n = prims.len();
-    let node_bounds = bounds.to_bounds();
-    let leaf = || BuildNode::Leaf { bounds: node_bounds, first, count: n };
-    if n == 1 {
-        return leaf();
-    }
-    let extent = centroid_bounds.hi - centroid_bounds.lo;
-    let axis = if extent.x >= extent.y && extent.x >= extent.z {
-        0
-    } else if extent.y >= extent.z {
-        1
-    } else {
-        2
-    };
-    if extent[axis] <= 0.0 {
-        // All centroids coincide: no split can separate them.
-        if n <= MAX_LEAF_SIZE {
-            return leaf();
-        }
-        let mid = n / 2;
-        return split_at(prims, first, mid, node_bounds, depth, costs, None);
-    }
-    if depth >= MAX_SAH_DEPTH {
-        // Too deep for the SAH's taste (an adversarial input): halve by the
-        // median centroid, which bounds the remaining depth by log2(n).
-        if n <= MAX_LEAF_SIZE {
-            return leaf();
-        }
-        let mid = n / 2;
-        let key = |p: &BuildPrim| p.bounds.centroid().to_array()[axis];
-        prims.select_nth_unstable_by(mid, |a, b| key(a).total_cmp(&key(b)));
-        return split_at(prims, first, mid, node_bounds, depth, costs, None);
-    }
-
-    // Bin the centroids and evaluate the SAH at every bin boundary.
-    let lo = centroid_bounds.lo[axis];
-    let scale = BIN_COUNT as f32 / extent[axis];
-    // `to_array()[axis]`, not `centroid[axis]`: glam's variable indexing
-    // is a chain of branches, and this runs for every primitive.
-    let bin_of = |p: &BuildPrim| (((p.bounds.centroid().to_array()[axis] - lo) * scale) as usize).min(BIN_COUNT - 1);
-    let mut bin_bounds = [Aabb::EMPTY; BIN_COUNT];
-    let mut bin_centroids = [Aabb::EMPTY; BIN_COUNT];
-    let mut bin_counts = [0usize; BIN_COUNT];
-    for p in prims.iter_mut() {
-        let b = bin_of(p);
-        p.bin = b as u32;
-        bin_counts[b] += 1;
-        bin_bounds[b] = bin_bounds[b].union(&p.bounds);
-        bin_centroids[b] = bin_centroids[b].union_point(p.bounds.centroid());
-    }
-    let mut right_area = [0.0f32; BIN_COUNT];
-    let mut right_count = [0usize; BIN_COUNT];
-    let (mut acc_b, mut acc_n) = (Aabb::EMPTY, 0);
-    for i in (1..BIN_COUNT).rev() {
-        acc_b = acc_b.union(&bin_bounds[i]);
-        acc_n += bin_counts[i];
-        right_area[i] = acc_b.area();
-        right_count[i] = acc_n;
-    }
-    let (mut best_cost, mut best_split) = (f32::INFINITY, 0);
-    let (mut acc_b, mut acc_n) = (Aabb::EMPTY, 0);
-    for i in 0..BIN_COUNT - 1 {
-        acc_b = acc_b.union(&bin_bounds[i]);
-        acc_n += bin_counts[i];
-        if acc_n == 0 || right_count[i + 1] == 0 {
-            continue;
-        }
-        let cost = acc_b.area() * costs.leaf(acc_n) + right_area[i + 1] * costs.leaf(right_count[i + 1]);
-        if cost < best_cost {
-            best_cost = cost;
-            best_split = i;
-        }
-    }
-    let parent_area = bounds.area().max(f32::MIN_POSITIVE);
-    let split_cost = costs.traversal + best_cost / parent_area;
-    let leaf_cost = costs.leaf(n);
-    if n <= MAX_LEAF_SIZE && leaf_cost <= split_cost {
-        return leaf();
-    }
-    // Partition in place by bin.
-    let mut left = 0;
-    for i in 0..n {
-        if prims[i].bin as usize <= best_split {
-            prims.swap(i, left);
-            left += 1;
-        }
-    }
-    if left == 0 || left == n {
-        left = n / 2;
-        return split_at(prims, first, left, node_bounds, depth, costs, None);
-    }
-    // The children's boxes and centroid boxes are the unions of their
-    // bins' (min and max are exact, so these equal what a pass over the
-    // primitives would find).
-    let union = |bins: std::ops::Range<usize>| {
-        bins.fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), i| (b.union(&bin_bounds[i]), c.union(&bin_centroids[i])))
-    };
-    let known = (union(0..best_split + 1), union(best_split + 1..BIN_COUNT));
-    split_at(prims, first, left, node_bounds, depth, costs, Some(known))
+/// One node's primitives sorted into [`BIN_COUNT`] bins by centroid along
+/// the split axis: per bin, the count, the union of the boxes and the
+/// union of the centroids.
+struct Bins {
+    count: [u32; BIN_COUNT],
+    bounds: [Aabb; BIN_COUNT],
+    centroids: [Aabb; BIN_COUNT],
 }
 
-fn split_at(
-    prims: &mut [BuildPrim],
-    first: usize,
-    mid: usize,
-    bounds: Bounds3,
-    depth: usize,
+/// The outcome of evaluating the SAH over a node's bins.
+struct BinnedSplit {
+    /// The left child takes bins `0..=last_left`.
+    last_left: usize,
+    /// Its cost, unnormalised: the children's areas times their leaf costs.
+    cost: f32,
+    /// The bounds of the boxes and of the centroids of the left and the
+    /// right bins, which become the children's (min and max are exact, so
+    /// these equal what a pass over the primitives would find).
+    known: ((Aabb, Aabb), (Aabb, Aabb)),
+}
+
+impl Bins {
+    const EMPTY: Bins =
+        Bins { count: [0; BIN_COUNT], bounds: [Aabb::EMPTY; BIN_COUNT], centroids: [Aabb::EMPTY; BIN_COUNT] };
+
+    /// Bin `prims` along axis `AXIS` (a constant, so that the centroid's
+    /// coordinate is one lane extraction), bin `i` taking the centroids
+    /// at `(c − lo)·scale ∈ [i, i + 1)`; the last bin also takes what lies
+    /// beyond, the first what lies before (or is NaN). Each primitive
+    /// keeps its bin for the partition. The bins must be empty.
+    #[inline(always)]
+    fn fill<const AXIS: usize>(&mut self, prims: &mut [BuildPrim], lo: f32, scale: f32) {
+        for p in prims.iter_mut() {
+            let c = p.bounds.centroid();
+            // `max` then `min` map NaN to 0 and clamp to the bins, which
+            // is what a saturating cast and `min(BIN_COUNT − 1)` gave, in
+            // fewer instructions.
+            let x = ((c.to_array()[AXIS] - lo) * scale).max(0.0).min((BIN_COUNT - 1) as f32);
+            // SAFETY: `x` is finite and in `[0, BIN_COUNT − 1]`.
+            let b = unsafe { x.to_int_unchecked::<u32>() } as usize;
+            p.bin = b as u32;
+            self.count[b] += 1;
+            self.bounds[b] = self.bounds[b].union(&p.bounds);
+            self.centroids[b] = self.centroids[b].union_point(c);
+        }
+    }
+
+    /// The split of least SAH cost, and the bins emptied for the next
+    /// node (only those that were used: resetting all of them was a tenth
+    /// of the build's instructions, most nodes being small).
+    ///
+    /// Empty bins are skipped: a split just after an empty bin costs
+    /// exactly what the split before that bin costs, and the first of equal
+    /// costs wins, so the result is that of evaluating every boundary.
+    fn take_best_split(&mut self, costs: SahCosts) -> BinnedSplit {
+        // The cost of the right-hand side of the boundary before bin `i`.
+        let mut right_cost = [0.0f32; BIN_COUNT];
+        let mut right_count = [0u32; BIN_COUNT];
+        let (mut acc_b, mut acc_n) = (Aabb::EMPTY, 0);
+        for i in (1..BIN_COUNT).rev() {
+            acc_n += self.count[i];
+            right_count[i] = acc_n;
+            if self.count[i] == 0 {
+                right_cost[i] = if i + 1 < BIN_COUNT { right_cost[i + 1] } else { 0.0 };
+                continue;
+            }
+            acc_b = acc_b.union(&self.bounds[i]);
+            right_cost[i] = acc_b.area() * costs.leaf(acc_n);
+        }
+        let (mut best_cost, mut best_split) = (f32::INFINITY, 0);
+        let (mut acc_b, mut acc_n) = (Aabb::EMPTY, 0);
+        for i in 0..BIN_COUNT - 1 {
+            if self.count[i] == 0 {
+                continue;
+            }
+            acc_b = acc_b.union(&self.bounds[i]);
+            acc_n += self.count[i];
+            if right_count[i + 1] == 0 {
+                break;
+            }
+            let cost = acc_b.area() * costs.leaf(acc_n) + right_cost[i + 1];
+            if cost < best_cost {
+                best_cost = cost;
+                best_split = i;
+            }
+        }
+        let mut known = [(Aabb::EMPTY, Aabb::EMPTY); 2];
+        for i in 0..BIN_COUNT {
+            if self.count[i] != 0 {
+                let side = &mut known[(i > best_split) as usize];
+                *side = (side.0.union(&self.bounds[i]), side.1.union(&self.centroids[i]));
+                self.count[i] = 0;
+                self.bounds[i] = Aabb::EMPTY;
+                self.centroids[i] = Aabb::EMPTY;
+            }
+        }
+        BinnedSplit { last_left: best_split, cost: best_cost, known: (known[0], known[1]) }
+    }
+}
+
+/// The state of one thread of the recursion: the cost model, and bins kept
+/// empty between nodes.
+struct Builder {
     costs: SahCosts,
-    known: Option<((Aabb, Aabb), (Aabb, Aabb))>,
-) -> BuildNode {
-    let (l, r) = prims.split_at_mut(mid);
-    let (known_l, known_r) = known.unzip();
-    let (a, b) = if l.len() + r.len() > PARALLEL_THRESHOLD {
-        rayon::join(
-            || build_recursive(l, first, depth + 1, costs, known_l),
-            || build_recursive(r, first + mid, depth + 1, costs, known_r),
-        )
-    } else {
-        (
-            build_recursive(l, first, depth + 1, costs, known_l),
-            build_recursive(r, first + mid, depth + 1, costs, known_r),
-        )
-    };
-    let size = 1 + a.node_count() + b.node_count();
-    BuildNode::Interior { bounds, children: Box::new([a, b]), size }
+    bins: Bins,
+}
+
+impl Builder {
+    fn new(costs: SahCosts) -> Self {
+        Self { costs, bins: Bins::EMPTY }
+    }
+
+    /// Build the subtree over `prims` (the primitives `first..` of the
+    /// final order). `known` is the bounds of their boxes and of their
+    /// centroids, where the parent already has them from its bins; else
+    /// they are computed here in one more pass over the primitives.
+    fn build(&mut self, prims: &mut [BuildPrim], first: usize, depth: usize, known: Option<(Aabb, Aabb)>) -> BuildNode {
+        let costs = self.costs;
+        let (bounds, centroid_bounds) = if let Some(known) = known {
+            known
+        } else if prims.len() > PARALLEL_THRESHOLD {
+            use rayon::prelude::*;
+            prims
+                .par_chunks(PARALLEL_THRESHOLD)
+                .map(bounds_of)
+                .reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |(a, b), (c, d)| (a.union(&c), b.union(&d)))
+        } else {
+            bounds_of(prims)
+        };
+        let n = prims.len();
+        let node_bounds = bounds.to_bounds();
+        let leaf = || BuildNode::Leaf { bounds: node_bounds, first, count: n };
+        // A split costs at least the traversal cost (the children's part
+        // is never negative), so a leaf that costs no more is taken without
+        // binning: with blocks of four that is every node of 1 to 4
+        // primitives, about half the nodes the recursion visits.
+        if n == 1 || (n <= MAX_LEAF_SIZE && costs.leaf(n as u32) <= costs.traversal) {
+            return leaf();
+        }
+        let extent = centroid_bounds.hi - centroid_bounds.lo;
+        let axis = if extent.x >= extent.y && extent.x >= extent.z {
+            0
+        } else if extent.y >= extent.z {
+            1
+        } else {
+            2
+        };
+        if extent[axis] <= 0.0 {
+            // All centroids coincide: no split can separate them.
+            if n <= MAX_LEAF_SIZE {
+                return leaf();
+            }
+            let mid = n / 2;
+            return self.split_at(prims, first, mid, node_bounds, depth, None);
+        }
+        if depth >= MAX_SAH_DEPTH {
+            // Too deep for the SAH's taste (an adversarial input): halve by
+            // the median centroid, which bounds the remaining depth by
+            // log2(n).
+            if n <= MAX_LEAF_SIZE {
+                return leaf();
+            }
+            let mid = n / 2;
+            let key = |p: &BuildPrim| p.bounds.centroid().to_array()[axis];
+            prims.select_nth_unstable_by(mid, |a, b| key(a).total_cmp(&key(b)));
+            return self.split_at(prims, first, mid, node_bounds, depth, None);
+        }
+
+        // Bin the centroids and evaluate the SAH at every bin boundary.
+        let lo = centroid_bounds.lo[axis];
+        let scale = BIN_COUNT as f32 / extent[axis];
+        match axis {
+            0 => self.bins.fill::<0>(prims, lo, scale),
+            1 => self.bins.fill::<1>(prims, lo, scale),
+            _ => self.bins.fill::<2>(prims, lo, scale),
+        }
+        let split = self.bins.take_best_split(costs);
+        let parent_area = bounds.area().max(f32::MIN_POSITIVE);
+        let split_cost = costs.traversal + split.cost / parent_area;
+        if n <= MAX_LEAF_SIZE && costs.leaf(n as u32) <= split_cost {
+            return leaf();
+        }
+        // Partition in place by bin.
+        let mut left = 0;
+        for i in 0..n {
+            if prims[i].bin as usize <= split.last_left {
+                if i != left {
+                    // `left < i`: two distinct elements, swapped in
+                    // registers (`slice::swap` went through the stack).
+                    let (head, tail) = prims.split_at_mut(i);
+                    std::mem::swap(&mut head[left], &mut tail[0]);
+                }
+                left += 1;
+            }
+        }
+        if left == 0 || left == n {
+            left = n / 2;
+            return self.split_at(prims, first, left, node_bounds, depth, None);
+        }
+        self.split_at(prims, first, left, node_bounds, depth, Some(split.known))
+    }
+
+    /// An interior node over `prims[..mid]` and `prims[mid..]`, built in
+    /// parallel when large (the right half then with bins of its own).
+    fn split_at(
+        &mut self,
+        prims: &mut [BuildPrim],
+        first: usize,
+        mid: usize,
+        bounds: Bounds3,
+        depth: usize,
+        known: Option<((Aabb, Aabb), (Aabb, Aabb))>,
+    ) -> BuildNode {
+        let (l, r) = prims.split_at_mut(mid);
+        let (known_l, known_r) = known.unzip();
+        let (a, b) = if l.len() + r.len() > PARALLEL_THRESHOLD {
+            let costs = self.costs;
+            rayon::join(
+                || self.build(l, first, depth + 1, known_l),
+                || Builder::new(costs).build(r, first + mid, depth + 1, known_r),
+            )
+        } else {
+            (self.build(l, first, depth + 1, known_l), self.build(r, first + mid, depth + 1, known_r))
+        };
+        let size = 1 + a.node_count() + b.node_count();
+        BuildNode::Interior { bounds, children: Box::new([a, b]), size }
+    }
 }
 
 impl Bvh {
@@ -276,35 +366,65 @@ impl Bvh {
     /// primitives are tested one at a time. Empty or infinite boxes (e.g. of
     /// degenerate primitives) are left out. Uses the current rayon pool.
     pub fn build(bounds: &[Bounds3]) -> Self {
-        Self::build_with(bounds, SahCosts::PER_PRIMITIVE)
+        Self::build_with(bounds.len(), |i| bounds[i], SahCosts::PER_PRIMITIVE)
     }
 
     /// As [`Bvh::build`], for leaves tested as one block of up to
     /// [`MAX_LEAF_SIZE`] primitives at once (see `MeshBvh`, in the shapes layer).
     pub fn build_for_blocks(bounds: &[Bounds3]) -> Self {
-        Self::build_with(bounds, SahCosts::PER_BLOCK)
+        Self::build_with(bounds.len(), |i| bounds[i], SahCosts::PER_BLOCK)
     }
 
-    fn build_with(bounds: &[Bounds3], costs: SahCosts) -> Self {
-        let mut prims: Vec<BuildPrim> = bounds
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| !b.is_empty() && !b.is_infinite())
-            .map(|(i, b)| BuildPrim { bounds: Aabb { lo: b.min.into(), hi: b.max.into() }, index: i as u32, bin: 0 })
-            .collect();
+    /// As [`Bvh::build_for_blocks`], over `count` primitives whose boxes
+    /// `bounds(i)` gives (computed in parallel), which saves the memory of
+    /// a separate array of boxes.
+    pub(crate) fn build_for_blocks_by(count: usize, bounds: impl Fn(usize) -> Bounds3 + Sync) -> Self {
+        Self::build_with(count, bounds, SahCosts::PER_BLOCK)
+    }
+
+    fn build_with(count: usize, bounds: impl Fn(usize) -> Bounds3 + Sync, costs: SahCosts) -> Self {
+        use rayon::prelude::*;
+        // The primitives, on huge pages where large: the build reads and
+        // partitions them many times, and fresh 4 KiB pages measured four
+        // times slower to fault in than huge ones that the system recycles
+        // (`PageArray`). Empty and infinite boxes are marked with an
+        // impossible bin, then squeezed out.
+        const LEFT_OUT: u32 = u32::MAX;
+        let mut prims = PageArray::<BuildPrim>::zeroed(count);
+        prims.par_iter_mut().enumerate().with_min_len(4096).for_each(|(i, p)| {
+            let b = bounds(i);
+            let bin = if b.is_empty() || b.is_infinite() { LEFT_OUT } else { 0 };
+            *p = BuildPrim { bounds: Aabb { lo: b.min.into(), hi: b.max.into() }, index: i as u32, bin };
+        });
+        if let Some(first_out) = prims.iter().position(|p| p.bin == LEFT_OUT) {
+            let mut len = first_out;
+            for i in first_out + 1..count {
+                if prims[i].bin != LEFT_OUT {
+                    prims[len] = prims[i];
+                    len += 1;
+                }
+            }
+            prims.truncate(len);
+        }
         if prims.is_empty() {
             return Self::default();
         }
-        let root = build_recursive(&mut prims, 0, 0, costs, None);
+        let root = Builder::new(costs).build(&mut prims, 0, 0, None);
         // A wide node replaces at least one binary interior node, and there
-        // are (n - 1) of those for n binary leaves: reserve for that (the
-        // final array holds just the nodes made).
-        let mut nodes = Vec::with_capacity(root.node_count() / 2 + 1);
+        // are (n - 1) of those for n binary leaves (a tree that is one leaf
+        // still makes one node): the array is made that large and cut to
+        // the nodes written. Its pages are touched only as nodes are
+        // written, so the unused end costs no memory, and the nodes need
+        // no second copy (page faults on fresh memory were a large part
+        // of the build's time).
+        let mut nodes = PageArray::zeroed(root.node_count() / 2 + 1);
+        let mut len = 0;
         // The root node holds the root as its only child (or the root's
         // children, when the root is interior).
-        flatten(&root, &mut nodes);
+        flatten(&root, &mut nodes, &mut len);
+        nodes.truncate(len);
         let primitives = prims.iter().map(|p| p.index).collect();
-        Self { nodes: PageArray::from_vec(nodes), primitives, bounds: Some(root.bounds()) }
+        Self { nodes, primitives, bounds: Some(root.bounds()) }
     }
 }
 
@@ -343,11 +463,13 @@ fn collect_children(node: &BuildNode) -> ([&BuildNode; WIDTH], usize) {
     (children, len)
 }
 
-/// Append the wide node for `node` (and, depth first, its interior
-/// descendants); returns its index.
-fn flatten(node: &BuildNode, out: &mut Vec<BvhNode>) -> u32 {
-    let index = out.len();
-    out.push(EMPTY_NODE);
+/// Write the wide node for `node` at `out[*next]` (and, depth first, its
+/// interior descendants after it), advancing `*next` past them; returns
+/// its index.
+fn flatten(node: &BuildNode, out: &mut [BvhNode], next: &mut usize) -> u32 {
+    let index = *next;
+    *next += 1;
+    out[index] = EMPTY_NODE;
     let (children, len) = collect_children(node);
     for (slot, child) in children[..len].iter().enumerate() {
         out[index].set_child_bounds(slot, &child.bounds());
@@ -357,7 +479,7 @@ fn flatten(node: &BuildNode, out: &mut Vec<BvhNode>) -> u32 {
                 out[index].count[slot] = *count as u32;
             }
             BuildNode::Interior { .. } => {
-                let c = flatten(child, out);
+                let c = flatten(child, out, next);
                 out[index].child[slot] = c;
                 out[index].count[slot] = 0;
             }
