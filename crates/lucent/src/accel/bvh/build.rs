@@ -641,6 +641,99 @@ mod tests {
         }
     }
 
+    /// The sweep that skips empty bins and prices leaves by a shift picks
+    /// the split, cost and child bounds of a plain transcription of the
+    /// binned SAH: every boundary evaluated, leaf cost `⌈n / block⌉` by
+    /// division, the first of equal costs kept. Random bins, many of them
+    /// empty, some of equal boxes (ties), both cost models; the bins are
+    /// left empty for the next node.
+    #[test]
+    fn best_split_matches_the_plain_sweep() {
+        let mut rng = Pcg32::new(3, 7);
+        let mut bins = Bins::EMPTY;
+        for round in 0..2000 {
+            let costs = if round % 2 == 0 { SahCosts::PER_BLOCK } else { SahCosts::PER_PRIMITIVE };
+            let block = 1u32 << costs.block_shift;
+            let mut filled = Bins::EMPTY;
+            for i in 0..BIN_COUNT {
+                if rng.uniform() < 0.5 {
+                    continue;
+                }
+                let (lo, hi) = if rng.uniform() < 0.2 {
+                    (Vec3A::ZERO, Vec3A::ONE)
+                } else {
+                    let lo = Vec3A::new(rng.uniform(), rng.uniform(), rng.uniform()) * 10.0;
+                    (lo, lo + Vec3A::new(rng.uniform(), rng.uniform(), rng.uniform()))
+                };
+                filled.count[i] = 1 + (rng.uniform() * 9.0) as u32;
+                filled.bounds[i] = Aabb { lo, hi };
+                filled.centroids[i] = Aabb { lo: (lo + hi) * 0.5, hi: (lo + hi) * 0.5 };
+            }
+            // The plain sweep.
+            let union = |r: std::ops::Range<usize>| {
+                r.clone().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), i| {
+                    (b.union(&filled.bounds[i]), c.union(&filled.centroids[i]))
+                })
+            };
+            let count = |r: std::ops::Range<usize>| r.map(|i| filled.count[i]).sum::<u32>();
+            let leaf = |n: u32| n.div_ceil(block) as f32;
+            let (mut want_cost, mut want_split) = (f32::INFINITY, 0);
+            for i in 0..BIN_COUNT - 1 {
+                let (nl, nr) = (count(0..i + 1), count(i + 1..BIN_COUNT));
+                if nl == 0 || nr == 0 {
+                    continue;
+                }
+                let cost = union(0..i + 1).0.area() * leaf(nl) + union(i + 1..BIN_COUNT).0.area() * leaf(nr);
+                if cost < want_cost {
+                    (want_cost, want_split) = (cost, i);
+                }
+            }
+            bins.count = filled.count;
+            bins.bounds = filled.bounds;
+            bins.centroids = filled.centroids;
+            let got = bins.take_best_split(costs);
+            assert_eq!(got.cost.to_bits(), want_cost.to_bits(), "round {round}");
+            if want_cost.is_finite() {
+                assert_eq!(got.last_left, want_split, "round {round}");
+                let (l, r) = (union(0..want_split + 1), union(want_split + 1..BIN_COUNT));
+                for (g, w) in
+                    [(got.known.0 .0, l.0), (got.known.0 .1, l.1), (got.known.1 .0, r.0), (got.known.1 .1, r.1)]
+                {
+                    assert_eq!((g.lo.to_array(), g.hi.to_array()), (w.lo.to_array(), w.hi.to_array()), "round {round}");
+                }
+            }
+            assert!(bins.count.iter().all(|&c| c == 0), "round {round}");
+            assert!(bins
+                .bounds
+                .iter()
+                .chain(&bins.centroids)
+                .all(|b| b.lo == Vec3A::INFINITY && b.hi == Vec3A::NEG_INFINITY));
+        }
+    }
+
+    /// Empty and infinite boxes, wherever they are in the input, are left
+    /// out, and every other primitive is in the tree once.
+    #[test]
+    fn empty_and_infinite_boxes_are_left_out() {
+        let mut boxes = random_boxes(300, 4);
+        let out = [0, 1, 17, 150, 151, 299];
+        for (k, &i) in out.iter().enumerate() {
+            boxes[i] = if k % 2 == 0 {
+                Bounds3::EMPTY
+            } else {
+                Bounds3::from_points(Vec3::ZERO, Vec3::new(f32::INFINITY, 1.0, 1.0))
+            };
+        }
+        for bvh in [Bvh::build(&boxes), Bvh::build_for_blocks(&boxes)] {
+            let mut seen: Vec<u32> = bvh.primitives().to_vec();
+            seen.sort_unstable();
+            let want: Vec<u32> = (0..300).filter(|i| !out.contains(&(*i as usize))).collect();
+            assert_eq!(seen, want);
+        }
+        let all_out = vec![Bounds3::EMPTY; 5];
+        assert!(Bvh::build_for_blocks(&all_out).is_empty());
+    }
+
     #[test]
     fn identical_boxes_still_build() {
         let boxes = vec![Bounds3::from_points(Vec3::ZERO, Vec3::ONE); 100];
