@@ -14,8 +14,10 @@ mod simd;
 
 pub(crate) use bvh::prefetch;
 pub(crate) use pages::{PageArray, ZeroIsValid};
+#[cfg(test)]
+pub(crate) use simd::detect as simd_detected;
 pub use simd::traversal_isa;
-pub(crate) use simd::use_avx2;
+pub(crate) use simd::{isa, Isa};
 
 pub use bvh::{BoxRay, Bvh, BvhNode, MAX_LEAF_SIZE, WIDTH};
 pub use light_buffer::LightBuffer;

@@ -5,49 +5,86 @@
 //! two four-lane passes; with AVX it is one eight-lane pass, as in Embree's
 //! AVX2 kernels, which Embree also picks at run time. The hot queries (a
 //! mesh BVH's closest and any hit, the scene's top level) therefore come in
-//! two builds of the same source: one compiled with AVX2 enabled (through
-//! `#[target_feature]`), taken when the CPU has it, and the portable one.
-//! Both do the same IEEE arithmetic in the same order, so they give
-//! bit-identical answers and images; tests compare them ray for ray.
+//! three builds of the same source: one compiled with AVX-512 enabled
+//! (through `#[target_feature]`), one with AVX2, each taken when the CPU has
+//! it, and the portable one. All three do the same IEEE arithmetic in the
+//! same order, so they give bit-identical answers and images; tests compare
+//! them ray for ray.
 //!
-//! Setting the environment variable `LUCENT_SIMD=portable` before the first
-//! query forces the portable build (for measuring one against the other in
-//! one binary).
+//! The AVX-512 build runs the same 256-bit and 128-bit vector code as the
+//! AVX2 one. What it gains is the compiler's: EVEX encodings with 32 vector
+//! registers instead of 16 (the traversal loop keeps the ray's slab offsets,
+//! the node and the stack in registers instead of spilling them) and
+//! comparisons into mask registers (measured in `docs/performance.md`).
+//!
+//! Setting the environment variable `LUCENT_SIMD` to `portable` or `avx2`
+//! before the first query caps the choice at that build (for measuring one
+//! against another in one binary).
 
 use std::sync::atomic::{AtomicU8, Ordering};
 
-/// 0: not decided yet; 1: portable; 2: AVX2.
+/// The builds of the hot queries, from the most portable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) enum Isa {
+    /// Baseline x86-64 (SSE2), or any other architecture.
+    Portable = 1,
+    /// AVX2 with FMA, BMI1/2, LZCNT and POPCNT (x86-64-v3).
+    Avx2 = 2,
+    /// The AVX2 set plus AVX-512 F, VL, BW and DQ (x86-64-v4).
+    Avx512 = 3,
+}
+
+/// 0: not decided yet; else an [`Isa`] as its number.
 static CHOICE: AtomicU8 = AtomicU8::new(0);
 
-/// Whether the queries run their AVX2 build: the CPU has AVX2 and
-/// `LUCENT_SIMD` does not say `portable`. Decided on the first call.
+/// The build the queries run: the best the CPU has, capped by
+/// `LUCENT_SIMD`. Decided on the first call.
 #[inline(always)]
-pub(crate) fn use_avx2() -> bool {
+pub(crate) fn isa() -> Isa {
     match CHOICE.load(Ordering::Relaxed) {
-        0 => decide(),
-        c => c == 2,
+        1 => Isa::Portable,
+        2 => Isa::Avx2,
+        3 => Isa::Avx512,
+        _ => decide(),
     }
 }
 
 #[cold]
-fn decide() -> bool {
-    let forced_portable = std::env::var_os("LUCENT_SIMD").is_some_and(|v| v == "portable");
-    #[cfg(target_arch = "x86_64")]
-    let avx2 = !forced_portable && std::arch::is_x86_feature_detected!("avx2");
-    #[cfg(not(target_arch = "x86_64"))]
-    let avx2 = {
-        let _ = forced_portable;
-        false
+fn decide() -> Isa {
+    let cap = match std::env::var("LUCENT_SIMD").as_deref() {
+        Ok("portable") => Isa::Portable,
+        Ok("avx2") => Isa::Avx2,
+        _ => Isa::Avx512,
     };
-    CHOICE.store(if avx2 { 2 } else { 1 }, Ordering::Relaxed);
-    avx2
+    let isa = detect().min(cap);
+    CHOICE.store(isa as u8, Ordering::Relaxed);
+    isa
 }
 
-/// The name of the build the queries run: `"avx2"` or `"portable"`.
+/// The best build this CPU can run, whatever `LUCENT_SIMD` says (for
+/// tests that compare every build the CPU has).
+pub(crate) fn detect() -> Isa {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::is_x86_feature_detected as has;
+        let v3 = has!("avx2") && has!("fma") && has!("bmi1") && has!("bmi2") && has!("lzcnt") && has!("popcnt");
+        let v4 = v3 && has!("avx512f") && has!("avx512vl") && has!("avx512bw") && has!("avx512dq");
+        if v4 {
+            return Isa::Avx512;
+        }
+        if v3 {
+            return Isa::Avx2;
+        }
+    }
+    Isa::Portable
+}
+
+/// The name of the build the queries run: `"avx512"`, `"avx2"` or
+/// `"portable"`.
 pub fn traversal_isa() -> &'static str {
-    if use_avx2() {
-        "avx2"
-    } else {
-        "portable"
+    match isa() {
+        Isa::Avx512 => "avx512",
+        Isa::Avx2 => "avx2",
+        Isa::Portable => "portable",
     }
 }

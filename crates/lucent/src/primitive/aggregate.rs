@@ -7,7 +7,7 @@
 
 use super::Primitive;
 #[cfg(target_arch = "x86_64")]
-use crate::accel::use_avx2;
+use crate::accel::{isa, Isa};
 use crate::accel::{BoxRay, Bvh, LightBuffer};
 use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::interaction::SurfaceInteraction;
@@ -144,6 +144,17 @@ impl BvhAggregate {
         unsafe { self.intersect_as::<true>(ray, t_max) }
     }
 
+    /// [`Aggregate::intersect`] compiled for AVX-512 (see `accel::simd`).
+    ///
+    /// # Safety
+    /// The CPU must have the features of `Isa::Avx512`.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
+    unsafe fn intersect_avx512(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
+        // SAFETY: the caller checked AVX-512 (which includes AVX).
+        unsafe { self.intersect_as::<true>(ray, t_max) }
+    }
+
     /// [`Aggregate::intersect_p`] compiled for AVX2.
     ///
     /// # Safety
@@ -151,6 +162,17 @@ impl BvhAggregate {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
     unsafe fn intersect_p_avx2(&self, ray: &Ray, t_max: f32) -> bool {
+        // SAFETY: as above.
+        unsafe { self.intersect_p_as::<true>(ray, t_max) }
+    }
+
+    /// [`Aggregate::intersect_p`] compiled for AVX-512 (see `accel::simd`).
+    ///
+    /// # Safety
+    /// The CPU must have the features of `Isa::Avx512`.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
+    unsafe fn intersect_p_avx512(&self, ray: &Ray, t_max: f32) -> bool {
         // SAFETY: as above.
         unsafe { self.intersect_p_as::<true>(ray, t_max) }
     }
@@ -214,13 +236,17 @@ impl Aggregate for BvhAggregate {
             // were merged into): its own bounds test is all the BVH adds.
             return only.intersect(ray, t_max);
         }
-        // A tree of one node is one box test: the AVX2 build would save a
+        // A tree of one node is one box test: the AVX builds would save a
         // few instructions there and cost a call (measured: the showcase
         // ran 2% slower through it), so only deeper trees take it.
         #[cfg(target_arch = "x86_64")]
-        if self.bvh.nodes().len() > 1 && use_avx2() {
-            // SAFETY: the CPU has AVX2.
-            return unsafe { self.intersect_avx2(ray, t_max) };
+        if self.bvh.nodes().len() > 1 {
+            // SAFETY: each build runs only where `isa` found its features.
+            match isa() {
+                Isa::Avx512 => return unsafe { self.intersect_avx512(ray, t_max) },
+                Isa::Avx2 => return unsafe { self.intersect_avx2(ray, t_max) },
+                Isa::Portable => {}
+            }
         }
         // SAFETY: the portable build needs no CPU feature.
         unsafe { self.intersect_as::<false>(ray, t_max) }
@@ -231,9 +257,13 @@ impl Aggregate for BvhAggregate {
             return only.intersect_p(ray, t_max);
         }
         #[cfg(target_arch = "x86_64")]
-        if self.bvh.nodes().len() > 1 && use_avx2() {
-            // SAFETY: the CPU has AVX2.
-            return unsafe { self.intersect_p_avx2(ray, t_max) };
+        if self.bvh.nodes().len() > 1 {
+            // SAFETY: each build runs only where `isa` found its features.
+            match isa() {
+                Isa::Avx512 => return unsafe { self.intersect_p_avx512(ray, t_max) },
+                Isa::Avx2 => return unsafe { self.intersect_p_avx2(ray, t_max) },
+                Isa::Portable => {}
+            }
         }
         // SAFETY: the portable build needs no CPU feature.
         unsafe { self.intersect_p_as::<false>(ray, t_max) }
@@ -382,13 +412,14 @@ mod tests {
     use crate::shapes::{Mesh, Plane, Shape, Sphere};
     use std::sync::Arc;
 
-    /// The AVX2 build of the top-level queries answers as the portable one,
-    /// bit for bit, on scenes of 2 to 200 primitives (one-node trees and
-    /// deeper ones) with spheres, meshes and a plane.
+    /// The AVX2 and AVX-512 builds of the top-level queries answer as the
+    /// portable one, bit for bit, on scenes of 2 to 200 primitives (one-node
+    /// trees and deeper ones) with spheres, meshes and a plane.
     #[test]
-    fn avx2_queries_equal_portable_ones() {
+    fn simd_queries_equal_portable_ones() {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
+        if crate::accel::simd_detected() >= Isa::Avx2 {
+            let avx512 = crate::accel::simd_detected() == Isa::Avx512;
             let mut rng = Pcg32::new(8, 8);
             let v = |rng: &mut Pcg32, s: f32| {
                 Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * (2.0 * s)
@@ -424,13 +455,23 @@ mod tests {
                     let (portable, avx2) = unsafe {
                         (aggregate.intersect_as::<false>(&ray, t_max), aggregate.intersect_avx2(&ray, t_max))
                     };
-                    assert_eq!(portable.map(|h| (h.t, h.p, h.n)), avx2.map(|h| (h.t, h.p, h.n)), "{n}: {ray:?}");
+                    let key = |h: Option<SurfaceInteraction>| h.map(|h| (h.t, h.p, h.n));
+                    let portable = key(portable);
+                    assert_eq!(portable, key(avx2), "{n}: {ray:?}");
                     // SAFETY: as above.
-                    let (portable, avx2) = unsafe {
+                    let (any_portable, any_avx2) = unsafe {
                         (aggregate.intersect_p_as::<false>(&ray, t_max), aggregate.intersect_p_avx2(&ray, t_max))
                     };
-                    assert_eq!(portable, avx2, "{n}: {ray:?}");
-                    hits += avx2 as usize;
+                    assert_eq!(any_portable, any_avx2, "{n}: {ray:?}");
+                    if avx512 {
+                        // SAFETY: AVX-512 was detected.
+                        let (closest, any) = unsafe {
+                            (aggregate.intersect_avx512(&ray, t_max), aggregate.intersect_p_avx512(&ray, t_max))
+                        };
+                        assert_eq!(portable, key(closest), "{n}: {ray:?}");
+                        assert_eq!(any_portable, any, "{n}: {ray:?}");
+                    }
+                    hits += any_avx2 as usize;
                 }
             }
             assert!(hits > 1000, "only {hits} hits");

@@ -3,7 +3,7 @@
 
 use super::watertight::{intersect_block, intersect_block_filtered, TriangleBlock, WatertightRay};
 #[cfg(target_arch = "x86_64")]
-use crate::accel::use_avx2;
+use crate::accel::{isa, Isa};
 use crate::accel::{prefetch, BoxRay, Bvh, PageArray, MAX_LEAF_SIZE};
 use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::mesh::TriangleMesh;
@@ -101,13 +101,17 @@ impl MeshBvh {
     /// The closest hit with `t ∈ [t_min, t_max]`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<MeshHit> {
-        #[cfg(target_arch = "x86_64")]
-        if use_avx2() {
-            // SAFETY: the CPU has AVX2.
-            return unsafe { self.intersect_avx2(ray, t_min, t_max) };
+        // SAFETY: each build runs only where `isa` found its features; the
+        // portable one needs none.
+        unsafe {
+            match isa() {
+                #[cfg(target_arch = "x86_64")]
+                Isa::Avx512 => self.intersect_avx512(ray, t_min, t_max),
+                #[cfg(target_arch = "x86_64")]
+                Isa::Avx2 => self.intersect_avx2(ray, t_min, t_max),
+                _ => self.intersect_as::<false>(ray, t_min, t_max),
+            }
         }
-        // SAFETY: the portable build needs no CPU feature.
-        unsafe { self.intersect_as::<false>(ray, t_min, t_max) }
     }
 
     /// [`MeshBvh::intersect`] compiled for AVX2.
@@ -118,6 +122,17 @@ impl MeshBvh {
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
     unsafe fn intersect_avx2(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<MeshHit> {
         // SAFETY: the caller checked AVX2 (which includes AVX).
+        unsafe { self.intersect_as::<true>(ray, t_min, t_max) }
+    }
+
+    /// [`MeshBvh::intersect`] compiled for AVX-512 (see `accel::simd`).
+    ///
+    /// # Safety
+    /// The CPU must have the features of `Isa::Avx512`.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
+    unsafe fn intersect_avx512(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<MeshHit> {
+        // SAFETY: the caller checked AVX-512 (which includes AVX).
         unsafe { self.intersect_as::<true>(ray, t_min, t_max) }
     }
 
@@ -226,13 +241,17 @@ impl MeshBvh {
     /// Whether any triangle is hit with `t ∈ [t_min, t_max]`.
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        if use_avx2() {
-            // SAFETY: the CPU has AVX2.
-            return unsafe { self.occluded_avx2(ray, t_min, t_max) };
+        // SAFETY: each build runs only where `isa` found its features; the
+        // portable one needs none.
+        unsafe {
+            match isa() {
+                #[cfg(target_arch = "x86_64")]
+                Isa::Avx512 => self.occluded_avx512(ray, t_min, t_max),
+                #[cfg(target_arch = "x86_64")]
+                Isa::Avx2 => self.occluded_avx2(ray, t_min, t_max),
+                _ => self.occluded_as::<false>(ray, t_min, t_max),
+            }
         }
-        // SAFETY: the portable build needs no CPU feature.
-        unsafe { self.occluded_as::<false>(ray, t_min, t_max) }
     }
 
     /// [`MeshBvh::occluded`] compiled for AVX2.
@@ -243,6 +262,17 @@ impl MeshBvh {
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
     unsafe fn occluded_avx2(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         // SAFETY: the caller checked AVX2 (which includes AVX).
+        unsafe { self.occluded_as::<true>(ray, t_min, t_max) }
+    }
+
+    /// [`MeshBvh::occluded`] compiled for AVX-512 (see `accel::simd`).
+    ///
+    /// # Safety
+    /// The CPU must have the features of `Isa::Avx512`.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
+    unsafe fn occluded_avx512(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        // SAFETY: the caller checked AVX-512 (which includes AVX).
         unsafe { self.occluded_as::<true>(ray, t_min, t_max) }
     }
 
@@ -272,14 +302,20 @@ mod tests {
     use super::*;
     use crate::sampling::Pcg32;
 
-    /// The AVX2 build of the queries answers as the portable one, bit for
-    /// bit, on meshes from one triangle to thousands (trees of one node and
-    /// of several levels) and rays from inside and outside. (Which build
-    /// the other tests exercise depends on the CPU; this one runs both.)
+    /// The AVX2 and AVX-512 builds of the queries answer as the portable
+    /// one, bit for bit, on meshes from one triangle to thousands (trees of
+    /// one node and of several levels) and rays from inside and outside.
+    /// (Which build the other tests exercise depends on the CPU; this one
+    /// runs every build the CPU has.)
     #[test]
-    fn avx2_queries_equal_portable_ones() {
+    fn simd_queries_equal_portable_ones() {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
+        {
+            let best = crate::accel::simd_detected();
+            if best < Isa::Avx2 {
+                eprintln!("no AVX2 on this CPU: only the portable queries run");
+                return;
+            }
             let mut rng = Pcg32::new(33, 7);
             let v = |rng: &mut Pcg32, s: f32| {
                 Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * (2.0 * s)
@@ -304,15 +340,20 @@ mod tests {
                         unsafe { (bvh.intersect_as::<false>(&ray, 0.0, t_max), bvh.intersect_avx2(&ray, 0.0, t_max)) };
                     assert_eq!(portable, avx2, "{n} triangles, ray {ray:?}");
                     // SAFETY: as above.
-                    let (portable, avx2) =
+                    let (any_portable, any_avx2) =
                         unsafe { (bvh.occluded_as::<false>(&ray, 0.0, t_max), bvh.occluded_avx2(&ray, 0.0, t_max)) };
-                    assert_eq!(portable, avx2, "{n} triangles, ray {ray:?}");
-                    hits += avx2 as usize;
+                    assert_eq!(any_portable, any_avx2, "{n} triangles, ray {ray:?}");
+                    if best == Isa::Avx512 {
+                        // SAFETY: AVX-512 was detected.
+                        let (avx512, any_avx512) =
+                            unsafe { (bvh.intersect_avx512(&ray, 0.0, t_max), bvh.occluded_avx512(&ray, 0.0, t_max)) };
+                        assert_eq!(portable, avx512, "{n} triangles, ray {ray:?}");
+                        assert_eq!(any_portable, any_avx512, "{n} triangles, ray {ray:?}");
+                    }
+                    hits += any_avx2 as usize;
                 }
             }
             assert!(hits > 1000, "only {hits} hits");
-            return;
         }
-        eprintln!("no AVX2 on this CPU: only the portable queries run");
     }
 }
