@@ -141,7 +141,7 @@ impl BvhAggregate {
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
     unsafe fn intersect_avx2(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
         // SAFETY: the caller checked AVX2 (which includes AVX).
-        unsafe { self.intersect_as::<true>(ray, t_max) }
+        unsafe { self.intersect_as::<true, 2>(ray, t_max) }
     }
 
     /// [`Aggregate::intersect`] compiled for AVX-512 (see `accel::simd`).
@@ -152,7 +152,7 @@ impl BvhAggregate {
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
     unsafe fn intersect_avx512(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
         // SAFETY: the caller checked AVX-512 (which includes AVX).
-        unsafe { self.intersect_as::<true>(ray, t_max) }
+        unsafe { self.intersect_as::<true, 3>(ray, t_max) }
     }
 
     /// [`Aggregate::intersect_p`] compiled for AVX2.
@@ -163,7 +163,7 @@ impl BvhAggregate {
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
     unsafe fn intersect_p_avx2(&self, ray: &Ray, t_max: f32) -> bool {
         // SAFETY: as above.
-        unsafe { self.intersect_p_as::<true>(ray, t_max) }
+        unsafe { self.intersect_p_as::<true, 2>(ray, t_max) }
     }
 
     /// [`Aggregate::intersect_p`] compiled for AVX-512 (see `accel::simd`).
@@ -174,15 +174,25 @@ impl BvhAggregate {
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
     unsafe fn intersect_p_avx512(&self, ray: &Ray, t_max: f32) -> bool {
         // SAFETY: as above.
-        unsafe { self.intersect_p_as::<true>(ray, t_max) }
+        unsafe { self.intersect_p_as::<true, 3>(ray, t_max) }
     }
 
     /// The closest hit, with the box test of [`Bvh::traverse_closest_as`].
     ///
+    /// `BUILD` is the build's `Isa` as a number. It only gives each build
+    /// its own copy of this function: with one copy shared by the AVX2 and
+    /// AVX-512 builds, the leaf-test closure had two callers and the
+    /// compiler stopped inlining it, so it ran out of line and compiled for
+    /// baseline x86-64.
+    ///
     /// # Safety
     /// With `AVX`, the CPU must have AVX.
     #[inline(always)]
-    unsafe fn intersect_as<const AVX: bool>(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
+    unsafe fn intersect_as<const AVX: bool, const BUILD: u8>(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+    ) -> Option<SurfaceInteraction> {
         let mut t_max = t_max;
         let mut closest = None;
         closest_of(&self.unbounded, ray, &mut t_max, &mut closest);
@@ -206,10 +216,16 @@ impl BvhAggregate {
     /// Whether anything is hit, with the box test of
     /// [`Bvh::traverse_any_as`].
     ///
+    /// `BUILD` is the build's `Isa` as a number. It only gives each build
+    /// its own copy of this function: with one copy shared by the AVX2 and
+    /// AVX-512 builds, the leaf-test closure had two callers and the
+    /// compiler stopped inlining it, so it ran out of line and compiled for
+    /// baseline x86-64.
+    ///
     /// # Safety
     /// With `AVX`, the CPU must have AVX.
     #[inline(always)]
-    unsafe fn intersect_p_as<const AVX: bool>(&self, ray: &Ray, t_max: f32) -> bool {
+    unsafe fn intersect_p_as<const AVX: bool, const BUILD: u8>(&self, ray: &Ray, t_max: f32) -> bool {
         if self.unbounded.iter().any(|p| p.intersect_p(ray, t_max)) {
             return true;
         }
@@ -249,7 +265,7 @@ impl Aggregate for BvhAggregate {
             }
         }
         // SAFETY: the portable build needs no CPU feature.
-        unsafe { self.intersect_as::<false>(ray, t_max) }
+        unsafe { self.intersect_as::<false, 1>(ray, t_max) }
     }
 
     fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
@@ -266,7 +282,7 @@ impl Aggregate for BvhAggregate {
             }
         }
         // SAFETY: the portable build needs no CPU feature.
-        unsafe { self.intersect_p_as::<false>(ray, t_max) }
+        unsafe { self.intersect_p_as::<false, 1>(ray, t_max) }
     }
 
     fn bounds(&self) -> Bounds3 {
@@ -453,14 +469,14 @@ mod tests {
                     let t_max = if rng.uniform() < 0.3 { 8.0 * rng.uniform() } else { f32::INFINITY };
                     // SAFETY: the portable build needs nothing; AVX2 was detected.
                     let (portable, avx2) = unsafe {
-                        (aggregate.intersect_as::<false>(&ray, t_max), aggregate.intersect_avx2(&ray, t_max))
+                        (aggregate.intersect_as::<false, 1>(&ray, t_max), aggregate.intersect_avx2(&ray, t_max))
                     };
                     let key = |h: Option<SurfaceInteraction>| h.map(|h| (h.t, h.p, h.n));
                     let portable = key(portable);
                     assert_eq!(portable, key(avx2), "{n}: {ray:?}");
                     // SAFETY: as above.
                     let (any_portable, any_avx2) = unsafe {
-                        (aggregate.intersect_p_as::<false>(&ray, t_max), aggregate.intersect_p_avx2(&ray, t_max))
+                        (aggregate.intersect_p_as::<false, 1>(&ray, t_max), aggregate.intersect_p_avx2(&ray, t_max))
                     };
                     assert_eq!(any_portable, any_avx2, "{n}: {ray:?}");
                     if avx512 {

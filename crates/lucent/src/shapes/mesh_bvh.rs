@@ -109,7 +109,7 @@ impl MeshBvh {
                 Isa::Avx512 => self.intersect_avx512(ray, t_min, t_max),
                 #[cfg(target_arch = "x86_64")]
                 Isa::Avx2 => self.intersect_avx2(ray, t_min, t_max),
-                _ => self.intersect_as::<false>(ray, t_min, t_max),
+                _ => self.intersect_as::<false, 1>(ray, t_min, t_max),
             }
         }
     }
@@ -122,7 +122,7 @@ impl MeshBvh {
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
     unsafe fn intersect_avx2(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<MeshHit> {
         // SAFETY: the caller checked AVX2 (which includes AVX).
-        unsafe { self.intersect_as::<true>(ray, t_min, t_max) }
+        unsafe { self.intersect_as::<true, 2>(ray, t_min, t_max) }
     }
 
     /// [`MeshBvh::intersect`] compiled for AVX-512 (see `accel::simd`).
@@ -133,16 +133,27 @@ impl MeshBvh {
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
     unsafe fn intersect_avx512(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<MeshHit> {
         // SAFETY: the caller checked AVX-512 (which includes AVX).
-        unsafe { self.intersect_as::<true>(ray, t_min, t_max) }
+        unsafe { self.intersect_as::<true, 3>(ray, t_min, t_max) }
     }
 
     /// [`MeshBvh::intersect`] with the box test of
     /// [`Bvh::traverse_closest_as`].
     ///
+    /// `BUILD` is the build's `Isa` as a number. It only gives each build
+    /// its own copy of this function: with one copy shared by the AVX2 and
+    /// AVX-512 builds, the leaf-test closure had two callers and the
+    /// compiler stopped inlining it, so it ran out of line and compiled for
+    /// baseline x86-64.
+    ///
     /// # Safety
     /// With `AVX`, the CPU must have AVX.
     #[inline(always)]
-    unsafe fn intersect_as<const AVX: bool>(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<MeshHit> {
+    unsafe fn intersect_as<const AVX: bool, const BUILD: u8>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<MeshHit> {
         let box_ray = BoxRay::new(ray.origin, ray.dir);
         let tri_ray = WatertightRay::new(ray);
         let mut t_max = t_max;
@@ -249,7 +260,7 @@ impl MeshBvh {
                 Isa::Avx512 => self.occluded_avx512(ray, t_min, t_max),
                 #[cfg(target_arch = "x86_64")]
                 Isa::Avx2 => self.occluded_avx2(ray, t_min, t_max),
-                _ => self.occluded_as::<false>(ray, t_min, t_max),
+                _ => self.occluded_as::<false, 1>(ray, t_min, t_max),
             }
         }
     }
@@ -262,7 +273,7 @@ impl MeshBvh {
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
     unsafe fn occluded_avx2(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         // SAFETY: the caller checked AVX2 (which includes AVX).
-        unsafe { self.occluded_as::<true>(ray, t_min, t_max) }
+        unsafe { self.occluded_as::<true, 2>(ray, t_min, t_max) }
     }
 
     /// [`MeshBvh::occluded`] compiled for AVX-512 (see `accel::simd`).
@@ -273,15 +284,21 @@ impl MeshBvh {
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
     unsafe fn occluded_avx512(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         // SAFETY: the caller checked AVX-512 (which includes AVX).
-        unsafe { self.occluded_as::<true>(ray, t_min, t_max) }
+        unsafe { self.occluded_as::<true, 3>(ray, t_min, t_max) }
     }
 
     /// [`MeshBvh::occluded`] with the box test of [`Bvh::traverse_any_as`].
     ///
+    /// `BUILD` is the build's `Isa` as a number. It only gives each build
+    /// its own copy of this function: with one copy shared by the AVX2 and
+    /// AVX-512 builds, the leaf-test closure had two callers and the
+    /// compiler stopped inlining it, so it ran out of line and compiled for
+    /// baseline x86-64.
+    ///
     /// # Safety
     /// With `AVX`, the CPU must have AVX.
     #[inline(always)]
-    unsafe fn occluded_as<const AVX: bool>(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+    unsafe fn occluded_as<const AVX: bool, const BUILD: u8>(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
         let box_ray = BoxRay::new(ray.origin, ray.dir);
         let tri_ray = WatertightRay::new(ray);
         // SAFETY: passed on from the caller.
@@ -336,12 +353,13 @@ mod tests {
                     let ray = Ray::new(v(&mut rng, 6.0), v(&mut rng, 1.0));
                     let t_max = if rng.uniform() < 0.3 { 6.0 * rng.uniform() } else { f32::INFINITY };
                     // SAFETY: the portable build needs nothing; AVX2 was detected.
-                    let (portable, avx2) =
-                        unsafe { (bvh.intersect_as::<false>(&ray, 0.0, t_max), bvh.intersect_avx2(&ray, 0.0, t_max)) };
+                    let (portable, avx2) = unsafe {
+                        (bvh.intersect_as::<false, 1>(&ray, 0.0, t_max), bvh.intersect_avx2(&ray, 0.0, t_max))
+                    };
                     assert_eq!(portable, avx2, "{n} triangles, ray {ray:?}");
                     // SAFETY: as above.
                     let (any_portable, any_avx2) =
-                        unsafe { (bvh.occluded_as::<false>(&ray, 0.0, t_max), bvh.occluded_avx2(&ray, 0.0, t_max)) };
+                        unsafe { (bvh.occluded_as::<false, 1>(&ray, 0.0, t_max), bvh.occluded_avx2(&ray, 0.0, t_max)) };
                     assert_eq!(any_portable, any_avx2, "{n} triangles, ray {ray:?}");
                     if best == Isa::Avx512 {
                         // SAFETY: AVX-512 was detected.

@@ -145,33 +145,45 @@ struct StackEntry {
 
 /// The traversal stack, on the call stack and left uninitialised: zeroing
 /// a few kilobytes per ray would cost more than many box tests.
+///
+/// Its length lives outside it, in a variable of the traversal loop: in the
+/// same struct as the entries, the compiler could not prove that a store to
+/// an entry (at a computed index) leaves the length alone, so it kept the
+/// length in memory and reloaded it after every push, one store-to-load
+/// forwarding on the loop's dependent chain per push and per pop.
 struct Stack {
     entries: [std::mem::MaybeUninit<StackEntry>; STACK_SIZE],
-    len: usize,
 }
 
 impl Stack {
     #[inline(always)]
     fn new() -> Self {
-        Self { entries: [std::mem::MaybeUninit::uninit(); STACK_SIZE], len: 0 }
+        Self { entries: [std::mem::MaybeUninit::uninit(); STACK_SIZE] }
     }
 
+    /// Push `e` onto the `*len` entries held.
     #[inline(always)]
-    fn push(&mut self, e: StackEntry) {
+    fn push(&mut self, len: &mut usize, e: StackEntry) {
         // The tree's depth bound makes overflow impossible; the index check
         // stays, so a broken bound would panic rather than corrupt memory.
-        self.entries[self.len].write(e);
-        self.len += 1;
+        self.entries[*len].write(e);
+        *len += 1;
     }
 
+    /// Pop the last of the `*len` entries held, if any.
+    ///
+    /// # Safety
+    /// `*len` must count the entries pushed onto this stack (through
+    /// [`Stack::push`] with the same `len`) and not yet popped.
     #[inline(always)]
-    fn pop(&mut self) -> Option<StackEntry> {
-        if self.len == 0 {
+    unsafe fn pop(&self, len: &mut usize) -> Option<StackEntry> {
+        if *len == 0 {
             return None;
         }
-        self.len -= 1;
-        // SAFETY: every slot below `len` was written by `push`.
-        Some(unsafe { self.entries[self.len].assume_init() })
+        *len -= 1;
+        // SAFETY: every slot below `len` was written by `push` (the
+        // caller's contract).
+        Some(unsafe { self.entries[*len].assume_init() })
     }
 }
 
@@ -426,6 +438,7 @@ impl Bvh {
         }
         let mut hit = false;
         let mut stack = Stack::new();
+        let mut stack_len = 0;
         let mut current = StackEntry::default();
         loop {
             if current.count > 0 {
@@ -450,7 +463,7 @@ impl Bvh {
                         } else {
                             prefetch_leaf(e.index);
                         }
-                        stack.push(e);
+                        stack.push(&mut stack_len, e);
                     };
                     if ANY {
                         // Any hit: no distance order. The highest slot goes
@@ -497,7 +510,8 @@ impl Bvh {
             // Resume with the nearest stacked entry that may still hold a
             // closer hit.
             loop {
-                match stack.pop() {
+                // SAFETY: `stack_len` is only changed by `push` and `pop`.
+                match unsafe { stack.pop(&mut stack_len) } {
                     None => return hit,
                     Some(entry) if entry.t <= *t_max => {
                         current = entry;
