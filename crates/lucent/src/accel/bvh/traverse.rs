@@ -457,6 +457,16 @@ impl Bvh {
                 let (t, mask) = intersect_children::<AVX>(node, ray, t_min, *t_max);
                 if mask != 0 {
                     let at = |i: usize, t: f32| StackEntry { index: node.child[i], count: node.count[i], t };
+                    // The child visited next is asked for as soon as it is
+                    // known, before the others are pushed: the push loop's
+                    // branches depend on the mask, and a mispredicted one
+                    // would discard the load of the next node issued
+                    // after it, leaving it to wait at the top of the loop.
+                    let prefetch_current = |e: StackEntry| {
+                        if e.count == 0 {
+                            prefetch(self.nodes.as_ptr().wrapping_add(e.index as usize), NODE_LINES);
+                        }
+                    };
                     let mut push = |e: StackEntry| {
                         if e.count == 0 {
                             prefetch(self.nodes.as_ptr().wrapping_add(e.index as usize), NODE_LINES);
@@ -472,13 +482,14 @@ impl Bvh {
                         // leaving a surface (the nearest boxes hold that
                         // surface, which cannot occlude).
                         let last = (31 - mask.leading_zeros()) as usize;
+                        current = at(last, 0.0);
+                        prefetch_current(current);
                         let mut rest = mask & !(1 << last);
                         while rest != 0 {
                             let i = rest.trailing_zeros() as usize;
                             rest &= rest - 1;
                             push(at(i, 0.0));
                         }
-                        current = at(last, 0.0);
                         continue;
                     }
                     let first = mask.trailing_zeros() as usize;
@@ -490,8 +501,9 @@ impl Bvh {
                     if mask.count_ones() == 2 {
                         let last = (31 - mask.leading_zeros()) as usize;
                         let (near, far) = if t[last] < t[first] { (last, first) } else { (first, last) };
-                        push(at(far, t[far]));
                         current = at(near, t[near]);
+                        prefetch_current(current);
+                        push(at(far, t[far]));
                         continue;
                     }
                     let child = |key: u32| {
@@ -500,10 +512,11 @@ impl Bvh {
                     };
                     let (mut keys, hits) = child_keys(&t, mask);
                     sort_keys(&mut keys, hits);
+                    current = child(keys[0]);
+                    prefetch_current(current);
                     for &key in keys[1..hits].iter().rev() {
                         push(child(key));
                     }
-                    current = child(keys[0]);
                     continue;
                 }
             }
