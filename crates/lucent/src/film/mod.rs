@@ -7,6 +7,7 @@ mod filter;
 mod output;
 mod partial;
 mod sensor;
+mod splat;
 mod tonemap;
 
 pub use accumulator::{fixed_contribution, Accumulator, FIXED_POINT_SCALE, MAX_CONTRIBUTION};
@@ -18,6 +19,7 @@ pub use sensor::{
     film_response, imaging_ratio, pbrt_film_scale, validate_film_response, white_balance_matrix, white_balance_scale,
     SensorError,
 };
+pub use splat::{SplatBand, MAX_BAND_REACH};
 pub use tonemap::{srgb_encode, ToneMap};
 
 /// The film cannot be allocated: its size is unusable or the memory

@@ -4,7 +4,7 @@
 //! result as one uninterrupted run.
 
 use super::{RenderError, RenderOptions, RenderReport, RenderSettings, CANCEL_PASS_INTERVAL};
-use crate::film::{film_response, fixed_contribution, Accumulator, Filter};
+use crate::film::{film_response, Accumulator, Filter, SplatBand};
 use crate::geometry::Vec2;
 use crate::integrator::{Integrator, RayStats};
 use crate::sampling::{Sampler, SamplerKind};
@@ -158,10 +158,6 @@ impl<I: Integrator> Pass<'_, I> {
         let first = self.acc.spp();
         let done = AtomicUsize::new(0);
         let settings = self.settings;
-        let radius = self.filter.radius();
-        // A box over exactly the pixel: every sample lands in its own pixel
-        // with weight 1, and needs neither footprint nor filter value.
-        let pixel_box = matches!(*self.filter, Filter::Box { radius } if radius == 0.5);
         let camera = self.scene.camera();
         // A pinhole camera ignores its lens sample: skip drawing it.
         let has_lens = camera.lens().is_some();
@@ -169,18 +165,15 @@ impl<I: Integrator> Pass<'_, I> {
         (0..h)
             .into_par_iter()
             .map_init(
-                || Sampler::new(settings.sampler, settings.seed, settings.spp),
-                |sampler, y| {
+                || (Sampler::new(settings.sampler, settings.seed, settings.spp), SplatBand::new(self.filter, w, h)),
+                |(sampler, band), y| {
                     let mut stats = RayStats::default();
                     if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
                         return stats;
                     }
                     let mut bad = 0;
+                    band.start_row(y);
                     for x in 0..w {
-                        // The pixel's own share of its samples, summed here and
-                        // added once: exact integer sums, so the same as
-                        // splatting each sample (and far fewer atomic adds).
-                        let mut own = [0i64; 4];
                         for index in first..first + self.spp {
                             sampler.start_pixel_sample(x, y, index);
                             let u = sampler.pixel_2d();
@@ -200,63 +193,10 @@ impl<I: Integrator> Pass<'_, I> {
                             // The film's response (pbrt-v4's RGBFilm): scale,
                             // then clamp, per sample.
                             let l = film_response(l, film_scale, max_component);
-                            // The pixels x + kx, y + ky whose centres lie within the
-                            // filter radius r of the sample: offsets k with
-                            // u − ½ − r < k ≤ u − ½ + r. The interval is half open,
-                            // so a box filter of radius ½ puts every sample in
-                            // exactly its own pixel, and the offsets are computed
-                            // from the in-pixel position u, free of the rounding
-                            // of x + u.
-                            if pixel_box {
-                                let c = fixed_contribution(l, 1.0);
-                                for (o, c) in own.iter_mut().zip(c) {
-                                    *o += c;
-                                }
-                                continue;
-                            }
-                            let k_lo = (u - Vec2::splat(0.5 + radius)).floor() + Vec2::ONE;
-                            let k_hi = (u + Vec2::splat(radius - 0.5)).floor();
-                            if k_lo == Vec2::ZERO && k_hi == Vec2::ZERO {
-                                // Only its own pixel (a box of radius ½).
-                                let weight = self.filter.evaluate(Vec2::splat(0.5) - u);
-                                if weight != 0.0 {
-                                    let c = fixed_contribution(l, weight);
-                                    for (o, c) in own.iter_mut().zip(c) {
-                                        *o += c;
-                                    }
-                                }
-                                continue;
-                            }
-                            for ky in k_lo.y as i64..=k_hi.y as i64 {
-                                let py = y as i64 + ky;
-                                if py < 0 || py >= h as i64 {
-                                    continue;
-                                }
-                                for kx in k_lo.x as i64..=k_hi.x as i64 {
-                                    let px = x as i64 + kx;
-                                    if px < 0 || px >= w as i64 {
-                                        continue;
-                                    }
-                                    let offset = Vec2::new(kx as f32 + 0.5 - u.x, ky as f32 + 0.5 - u.y);
-                                    let weight = self.filter.evaluate(offset);
-                                    if weight == 0.0 {
-                                        continue;
-                                    }
-                                    if kx == 0 && ky == 0 {
-                                        let c = fixed_contribution(l, weight);
-                                        for (o, c) in own.iter_mut().zip(c) {
-                                            *o += c;
-                                        }
-                                    } else {
-                                        self.acc.splat(px as u32, py as u32, l, weight);
-                                    }
-                                }
-                            }
-                        }
-                        if own != [0; 4] {
-                            self.acc.add_fixed(x, y, own);
+                            band.add(x, u, l, self.acc);
                         }
                     }
+                    band.flush(self.acc);
                     if bad > 0 {
                         nonfinite.fetch_add(bad, Ordering::Relaxed);
                     }

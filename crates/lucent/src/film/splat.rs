@@ -1,0 +1,228 @@
+//! Splatting the samples of one image row: each sample is added, weighted
+//! by the reconstruction filter, to every pixel whose filter covers it
+//! (PBRT 3rd ed. §7.8). A row's samples reach a band of rows around it; the
+//! band is summed here, in plain integers, and added to the shared
+//! [`Accumulator`] once when the row is done.
+//!
+//! Both steps give exactly the sums of splatting every sample straight into
+//! the accumulator: the weights are the same products `f₁(x)·f₁(y)`, and
+//! fixed-point integer addition is exact and associative. What they save is
+//! work: the separable filter is evaluated once per footprint column and
+//! row instead of twice per pixel (a Gaussian evaluates two `exp` each
+//! time), and the atomic additions, which serialise the core, come once per
+//! pixel of the band and row instead of once per sample and pixel.
+
+use super::{fixed_contribution, Accumulator, Filter};
+use crate::color::Color;
+use crate::geometry::Vec2;
+
+/// How many rows above and below its own a band holds.
+pub const MAX_BAND_REACH: i64 = 16;
+
+/// A band of rows of fixed-point sums `[Σw·r, Σw·g, Σw·b, Σw]`: the share
+/// of one image row's samples in every pixel they reach.
+#[derive(Clone, Debug)]
+pub struct SplatBand {
+    filter: Filter,
+    /// The filter radius, in pixels.
+    radius: f32,
+    /// Whether the filter is a box over exactly the pixel: every sample
+    /// then lands in its own pixel with weight 1.
+    pixel_box: bool,
+    width: u32,
+    height: u32,
+    /// The image row whose samples the band holds.
+    y: u32,
+    /// Offset (from `y`) of the band's first row; it has `rows` rows.
+    first: i64,
+    rows: usize,
+    sums: Vec<[i64; 4]>,
+    /// The filter's factors of the current sample's footprint columns and
+    /// rows.
+    wx: Vec<f32>,
+    wy: Vec<f32>,
+}
+
+impl SplatBand {
+    /// An empty band for an image `width` × `height` under `filter`.
+    ///
+    /// A sample at `y + u` (with `0 ≤ u < 1`) reaches the rows `y + k` whose
+    /// centres `k + ½` lie within the radius `r`: `u − ½ − r < k ≤ u − ½ + r`,
+    /// so `k` lies in `[⌊−½ − r⌋, ⌈r + ½⌉]` (one row of margin each side,
+    /// against rounding). The band holds at most [`MAX_BAND_REACH`] rows
+    /// each side; the rare filter that reaches further adds its far rows
+    /// straight to the accumulator.
+    pub fn new(filter: &Filter, width: u32, height: u32) -> Self {
+        let radius = filter.radius();
+        let first = ((-0.5 - radius).floor() as i64).max(-MAX_BAND_REACH);
+        let last = ((radius + 0.5).ceil() as i64).min(MAX_BAND_REACH);
+        let rows = (last - first + 1) as usize;
+        Self {
+            filter: *filter,
+            radius,
+            pixel_box: matches!(*filter, Filter::Box { radius } if radius == 0.5),
+            width,
+            height,
+            y: 0,
+            first,
+            rows,
+            sums: vec![[0; 4]; rows * width as usize],
+            wx: Vec::new(),
+            wy: Vec::new(),
+        }
+    }
+
+    /// Empty the band for the samples of row `y`.
+    pub fn start_row(&mut self, y: u32) {
+        self.y = y;
+        self.sums.fill([0; 4]);
+    }
+
+    /// The sums of pixel `px` in the band's row `y + k`.
+    #[inline]
+    fn at(&mut self, k: i64, px: usize) -> &mut [i64; 4] {
+        let row = (k - self.first) as usize;
+        debug_assert!(row < self.rows, "footprint row {k} outside the band");
+        &mut self.sums[row * self.width as usize + px]
+    }
+
+    /// Add a sample of radiance `l` at `u` (in `[0, 1)²`) within pixel
+    /// `(x, y)` of the band's row to every pixel it reaches (in `acc`
+    /// directly for rows beyond the band).
+    pub fn add(&mut self, x: u32, u: Vec2, l: Color, acc: &Accumulator) {
+        if self.pixel_box {
+            add(self.at(0, x as usize), fixed_contribution(l, 1.0));
+            return;
+        }
+        // The footprint: offsets k with u − ½ − r < k ≤ u − ½ + r. The
+        // interval is half open, so a box filter of radius ½ puts every
+        // sample in exactly its own pixel, and the offsets are computed from
+        // the in-pixel position u, free of the rounding of x + u.
+        let k_lo = (u - Vec2::splat(0.5 + self.radius)).floor() + Vec2::ONE;
+        let k_hi = (u + Vec2::splat(self.radius - 0.5)).floor();
+        if k_lo == Vec2::ZERO && k_hi == Vec2::ZERO {
+            // Only its own pixel (a box of radius ½).
+            let weight = self.filter.evaluate(Vec2::splat(0.5) - u);
+            if weight != 0.0 {
+                add(self.at(0, x as usize), fixed_contribution(l, weight));
+            }
+            return;
+        }
+        // Only pixels of the image count.
+        let (w, h) = (self.width as i64, self.height as i64);
+        let (x, y) = (x as i64, self.y as i64);
+        let (kx_lo, kx_hi) = ((k_lo.x as i64).max(-x), (k_hi.x as i64).min(w - 1 - x));
+        let (ky_lo, ky_hi) = ((k_lo.y as i64).max(-y), (k_hi.y as i64).min(h - 1 - y));
+        // The separable filter's factors: f₁ at each column's and each
+        // row's offset, the very values `Filter::evaluate` multiplies.
+        let filter = self.filter;
+        self.wx.clear();
+        self.wx.extend((kx_lo..=kx_hi).map(|kx| filter.evaluate_1d(kx as f32 + 0.5 - u.x)));
+        self.wy.clear();
+        self.wy.extend((ky_lo..=ky_hi).map(|ky| filter.evaluate_1d(ky as f32 + 0.5 - u.y)));
+        for (j, ky) in (ky_lo..=ky_hi).enumerate() {
+            let wy = self.wy[j];
+            let in_band = (self.first..self.first + self.rows as i64).contains(&ky);
+            for (i, kx) in (kx_lo..=kx_hi).enumerate() {
+                let weight = self.wx[i] * wy;
+                if weight == 0.0 {
+                    continue;
+                }
+                let px = (x + kx) as usize;
+                if in_band {
+                    add(self.at(ky, px), fixed_contribution(l, weight));
+                } else {
+                    acc.splat(px as u32, (y + ky) as u32, l, weight);
+                }
+            }
+        }
+    }
+
+    /// Add the band's sums to `acc`, pixels of the image only.
+    pub fn flush(&self, acc: &Accumulator) {
+        let w = self.width as usize;
+        for (row, sums) in self.sums.chunks_exact(w).enumerate() {
+            let py = self.y as i64 + self.first + row as i64;
+            if py < 0 || py >= self.height as i64 {
+                continue;
+            }
+            for (px, s) in sums.iter().enumerate() {
+                if *s != [0; 4] {
+                    acc.add_fixed(px as u32, py as u32, *s);
+                }
+            }
+        }
+    }
+}
+
+#[inline]
+fn add(sum: &mut [i64; 4], c: [i64; 4]) {
+    for (s, c) in sum.iter_mut().zip(c) {
+        *s += c;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Pcg32;
+
+    /// Splatting every sample straight into the accumulator, pixel by
+    /// pixel with `Filter::evaluate`, as the renderer did before bands.
+    fn splat_directly(acc: &Accumulator, filter: &Filter, x: u32, y: u32, u: Vec2, l: Color) {
+        let r = filter.radius();
+        let k_lo = (u - Vec2::splat(0.5 + r)).floor() + Vec2::ONE;
+        let k_hi = (u + Vec2::splat(r - 0.5)).floor();
+        for ky in k_lo.y as i64..=k_hi.y as i64 {
+            for kx in k_lo.x as i64..=k_hi.x as i64 {
+                let (px, py) = (x as i64 + kx, y as i64 + ky);
+                if px < 0 || py < 0 || px >= acc.width() as i64 || py >= acc.height() as i64 {
+                    continue;
+                }
+                let weight = filter.evaluate(Vec2::new(kx as f32 + 0.5 - u.x, ky as f32 + 0.5 - u.y));
+                if weight != 0.0 {
+                    acc.splat(px as u32, py as u32, l, weight);
+                }
+            }
+        }
+    }
+
+    /// Bands give bit for bit the sums of splatting each sample directly,
+    /// for every kind of filter and radius, at the image's edges too.
+    #[test]
+    fn bands_equal_direct_splats() {
+        let filters = [
+            Filter::Box { radius: 0.5 },
+            Filter::Box { radius: 1.0 },
+            Filter::Tent { radius: 1.0 },
+            Filter::Tent { radius: 0.3 },
+            Filter::Gaussian { radius: 1.5, sigma: 0.5 },
+            Filter::Mitchell { radius: 2.0, b: 1.0 / 3.0, c: 1.0 / 3.0 },
+            Filter::Lanczos { radius: 3.0, tau: 3.0 },
+            // Beyond the band's reach: far rows go straight to the
+            // accumulator.
+            Filter::Gaussian { radius: 20.0, sigma: 8.0 },
+        ];
+        let (w, h) = (7, 40);
+        for filter in filters {
+            let direct = Accumulator::new(w, h).unwrap();
+            let banded = Accumulator::new(w, h).unwrap();
+            let mut band = SplatBand::new(&filter, w, h);
+            let mut rng = Pcg32::new(3, 1);
+            for y in 0..h {
+                band.start_row(y);
+                for x in 0..w {
+                    for _ in 0..6 {
+                        let u = Vec2::new(rng.uniform(), rng.uniform());
+                        let l = Color::new(rng.uniform(), 2.0 * rng.uniform(), 0.5);
+                        splat_directly(&direct, &filter, x, y, u, l);
+                        band.add(x, u, l, &banded);
+                    }
+                }
+                band.flush(&banded);
+            }
+            assert!(direct.raw().iter().any(|s| *s != [0; 4]));
+            assert_eq!(direct.raw(), banded.raw(), "{filter:?}");
+        }
+    }
+}
