@@ -32,8 +32,8 @@ impl SceneFile {
         // Top-level objects are the n-th `[[kind]]` table of the file;
         // nested ones are identified by their path in the message and
         // located at the top-level table that holds them.
-        let locate =
-            |kind: &str, index: usize| if label.is_empty() { nth_table(&self.source, kind, index) } else { group_at };
+        let tables = TableLocator::new(&self.source);
+        let locate = |kind: &str, index: usize| if label.is_empty() { tables.nth_table(kind, index) } else { group_at };
         let resolve = |ctx: &BuildContext<'_>, what: &str, own: Option<&str>, at| -> Result<MaterialId, SceneError> {
             let name = forced_material.or(own).or(material).ok_or_else(|| {
                 self.error(at, format!("{what} has no material (set `material`, or one on its group)"))
