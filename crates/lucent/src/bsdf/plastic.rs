@@ -197,17 +197,27 @@ const N_COS: usize = 33;
 const QUAD_SIDE: usize = 24;
 
 /// Rough-coat transmittance `T(η, α, cos θ) = 1 − R` tabulated on a regular
-/// grid (21 η in [1, 3], 21 α in [0, 1], 33 cos θ in [0, 1]; about a CPU
-/// second to build, in parallel, once per process, on first use), with its
-/// cosine-weighted mean `T̄(η, α)`.
+/// grid (21 η in [1, 3], 21 α in [0, 1], 33 cos θ in [0, 1]), with its
+/// cosine-weighted mean `T̄(η, α)`. Building it takes about a CPU second;
+/// the table is stored with the source ([`STORED_TABLE`]) and read from
+/// there.
 struct CoatTable {
     t: Vec<f32>,
     t_mean: Vec<f32>,
 }
 
+/// [`CoatTable::build`]'s result, stored: `T` then `T̄`, in the order of
+/// [`CoatTable`]'s vectors, as little-endian `f32`. The test
+/// `stored_table_is_the_built_one` checks it against a fresh build and, with
+/// the environment variable `LUCENT_WRITE_COAT_TABLE` set, writes it anew
+/// (needed after any change to the grid or to the estimator).
+static STORED_TABLE: &[u8] = include_bytes!("coat_table.bin");
+
+/// The table, read from [`STORED_TABLE`] on first use (built if that does
+/// not have the grid's size).
 fn table() -> &'static CoatTable {
     static TABLE: OnceLock<CoatTable> = OnceLock::new();
-    TABLE.get_or_init(CoatTable::build)
+    TABLE.get_or_init(|| CoatTable::from_bytes(STORED_TABLE).unwrap_or_else(CoatTable::build))
 }
 
 /// Grid coordinate of `x` in `[lo, hi]` with `n` points: the lower index and
@@ -276,6 +286,24 @@ impl CoatTable {
         Self { t, t_mean }
     }
 
+    /// The table stored as [`CoatTable::to_bytes`] writes it; `None` if
+    /// `bytes` does not hold one of this grid's size.
+    fn from_bytes(bytes: &[u8]) -> Option<Self> {
+        let n_t = N_ETA * N_ALPHA * N_COS;
+        if bytes.len() != (n_t + N_ETA * N_ALPHA) * 4 {
+            return None;
+        }
+        let mut values = bytes.chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        let t = values.by_ref().take(n_t).collect();
+        Some(Self { t, t_mean: values.collect() })
+    }
+
+    /// `T` then `T̄` as little-endian `f32`.
+    #[cfg(test)]
+    fn to_bytes(&self) -> Vec<u8> {
+        self.t.iter().chain(&self.t_mean).flat_map(|v| v.to_le_bytes()).collect()
+    }
+
     /// Trilinear interpolation of `T`.
     fn t(&self, eta: f32, alpha: f32, cos_theta: f32) -> f32 {
         let (ie, fe) = grid(eta, ETA_MIN, ETA_MAX, N_ETA);
@@ -312,5 +340,24 @@ mod tests {
         let a = tb.t_mean(1.5, 0.0);
         assert!((a - (1.0 - fr_dielectric_hemispherical(1.5))).abs() < 2e-3, "{a}");
         assert!(tb.t.iter().all(|t| (0.0..=1.0).contains(t)));
+    }
+
+    /// The stored table is what `CoatTable::build` computes (to rounding:
+    /// another CPU's or platform's `sin` and `cos` may differ in the last
+    /// bit; on the x86-64 machine that wrote it, it was the build bit for
+    /// bit); with
+    /// `LUCENT_WRITE_COAT_TABLE` set, the build is written over it.
+    #[test]
+    fn stored_table_is_the_built_one() {
+        let built = CoatTable::build();
+        if std::env::var_os("LUCENT_WRITE_COAT_TABLE").is_some() {
+            let path = concat!(env!("CARGO_MANIFEST_DIR"), "/src/bsdf/coat_table.bin");
+            std::fs::write(path, built.to_bytes()).unwrap();
+            return;
+        }
+        let stored = CoatTable::from_bytes(STORED_TABLE).expect("coat_table.bin has the grid's size");
+        let max_diff = |a: &[f32], b: &[f32]| a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f32::max);
+        assert!(max_diff(&stored.t, &built.t) <= 1e-5, "T differs by {}", max_diff(&stored.t, &built.t));
+        assert!(max_diff(&stored.t_mean, &built.t_mean) <= 1e-5);
     }
 }
