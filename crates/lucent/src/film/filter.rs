@@ -187,27 +187,72 @@ impl Filter {
     }
 
     fn eval_1d_f64(&self, x: f64) -> f64 {
-        let r = self.radius() as f64;
-        let ax = x.abs();
-        if ax > r {
-            return 0.0;
-        }
-        match *self {
-            Filter::Box { .. } => 1.0,
-            Filter::Tent { .. } => 1.0 - ax / r,
-            Filter::Gaussian { sigma, .. } => {
-                let s2 = 2.0 * (sigma as f64).powi(2);
-                ((-ax * ax / s2).exp() - (-r * r / s2).exp()).max(0.0)
-            }
-            Filter::Mitchell { b, c, .. } => mitchell_1d(2.0 * ax / r, b as f64, c as f64),
-            Filter::Lanczos { tau, .. } => sinc(x) * sinc(x / tau as f64),
-        }
+        Filter1d::new(self).eval_f64(x)
     }
 
     /// Whether the filter has negative lobes (Mitchell, Lanczos), so that
     /// sample weights may be −1.
     fn has_negative_lobes(&self) -> bool {
         matches!(self, Filter::Mitchell { .. } | Filter::Lanczos { .. })
+    }
+}
+
+/// A filter's 1D factor `f₁` with what does not depend on the offset
+/// computed once: [`Filter::evaluate_1d`] for many offsets (the Gaussian's
+/// floor `g(r)` is an `exp` of its own).
+///
+/// ```
+/// use lucent::film::{Filter, Filter1d};
+///
+/// let g = Filter::Gaussian { radius: 1.5, sigma: 0.5 };
+/// let f1 = Filter1d::new(&g);
+/// for x in [0.0, 0.3, -1.2, 1.5, 2.0] {
+///     assert_eq!(f1.evaluate(x), g.evaluate_1d(x));
+/// }
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Filter1d {
+    filter: Filter,
+    /// The radius.
+    r: f64,
+    /// Gaussian: `2σ²` and `g(r) = exp(−r²/2σ²)`.
+    two_sigma2: f64,
+    floor: f64,
+}
+
+impl Filter1d {
+    /// The 1D factor of `filter`.
+    pub fn new(filter: &Filter) -> Self {
+        let r = filter.radius() as f64;
+        let (two_sigma2, floor) = match *filter {
+            Filter::Gaussian { sigma, .. } => {
+                let s2 = 2.0 * (sigma as f64).powi(2);
+                (s2, (-r * r / s2).exp())
+            }
+            _ => (0.0, 0.0),
+        };
+        Self { filter: *filter, r, two_sigma2, floor }
+    }
+
+    /// `f₁(x)`: the same value as [`Filter::evaluate_1d`].
+    #[inline]
+    pub fn evaluate(&self, x: f32) -> f32 {
+        self.eval_f64(x as f64) as f32
+    }
+
+    fn eval_f64(&self, x: f64) -> f64 {
+        let r = self.r;
+        let ax = x.abs();
+        if ax > r {
+            return 0.0;
+        }
+        match self.filter {
+            Filter::Box { .. } => 1.0,
+            Filter::Tent { .. } => 1.0 - ax / r,
+            Filter::Gaussian { .. } => ((-ax * ax / self.two_sigma2).exp() - self.floor).max(0.0),
+            Filter::Mitchell { b, c, .. } => mitchell_1d(2.0 * ax / r, b as f64, c as f64),
+            Filter::Lanczos { tau, .. } => sinc(x) * sinc(x / tau as f64),
+        }
     }
 }
 

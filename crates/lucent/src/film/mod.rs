@@ -12,7 +12,7 @@ mod tonemap;
 
 pub use accumulator::{fixed_contribution, Accumulator, FIXED_POINT_SCALE, MAX_CONTRIBUTION};
 pub use checkpoint::{load_checkpoint, save_checkpoint, CheckpointError};
-pub use filter::{Filter, FilterError, FilterSample, FilterSampler, TABLE_SEGMENTS};
+pub use filter::{Filter, Filter1d, FilterError, FilterSample, FilterSampler, TABLE_SEGMENTS};
 pub use output::{ImageFormat, OutputError, PendingImage};
 pub use partial::{show_ranges, PartialError, PartialFilm};
 pub use sensor::{

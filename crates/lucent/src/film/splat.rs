@@ -12,7 +12,7 @@
 //! time), and the atomic additions, which serialise the core, come once per
 //! pixel of the band and row instead of once per sample and pixel.
 
-use super::{fixed_contribution, Accumulator, Filter};
+use super::{fixed_contribution, Accumulator, Filter, Filter1d};
 use crate::color::Color;
 use crate::geometry::Vec2;
 
@@ -23,7 +23,8 @@ pub const MAX_BAND_REACH: i64 = 16;
 /// of one image row's samples in every pixel they reach.
 #[derive(Clone, Debug)]
 pub struct SplatBand {
-    filter: Filter,
+    /// The filter's 1D factor.
+    filter: Filter1d,
     /// The filter radius, in pixels.
     radius: f32,
     /// Whether the filter is a box over exactly the pixel: every sample
@@ -58,7 +59,7 @@ impl SplatBand {
         let last = ((radius + 0.5).ceil() as i64).min(MAX_BAND_REACH);
         let rows = (last - first + 1) as usize;
         Self {
-            filter: *filter,
+            filter: Filter1d::new(filter),
             radius,
             pixel_box: matches!(*filter, Filter::Box { radius } if radius == 0.5),
             width,
@@ -67,8 +68,10 @@ impl SplatBand {
             first,
             rows,
             sums: vec![[0; 4]; rows * width as usize],
-            wx: Vec::new(),
-            wy: Vec::new(),
+            // A footprint spans at most 2r + 1 columns and rows (and no
+            // more than the image).
+            wx: vec![0.0; ((2.0 * radius).ceil() as usize).saturating_add(2).min(width as usize)],
+            wy: vec![0.0; ((2.0 * radius).ceil() as usize).saturating_add(2).min(height as usize)],
         }
     }
 
@@ -102,7 +105,8 @@ impl SplatBand {
         let k_hi = (u + Vec2::splat(self.radius - 0.5)).floor();
         if k_lo == Vec2::ZERO && k_hi == Vec2::ZERO {
             // Only its own pixel (a box of radius ½).
-            let weight = self.filter.evaluate(Vec2::splat(0.5) - u);
+            let offset = Vec2::splat(0.5) - u;
+            let weight = self.filter.evaluate(offset.x) * self.filter.evaluate(offset.y);
             if weight != 0.0 {
                 add(self.at(0, x as usize), fixed_contribution(l, weight));
             }
@@ -116,10 +120,12 @@ impl SplatBand {
         // The separable filter's factors: f₁ at each column's and each
         // row's offset, the very values `Filter::evaluate` multiplies.
         let filter = self.filter;
-        self.wx.clear();
-        self.wx.extend((kx_lo..=kx_hi).map(|kx| filter.evaluate_1d(kx as f32 + 0.5 - u.x)));
-        self.wy.clear();
-        self.wy.extend((ky_lo..=ky_hi).map(|ky| filter.evaluate_1d(ky as f32 + 0.5 - u.y)));
+        for (w, kx) in self.wx.iter_mut().zip(kx_lo..=kx_hi) {
+            *w = filter.evaluate(kx as f32 + 0.5 - u.x);
+        }
+        for (w, ky) in self.wy.iter_mut().zip(ky_lo..=ky_hi) {
+            *w = filter.evaluate(ky as f32 + 0.5 - u.y);
+        }
         for (j, ky) in (ky_lo..=ky_hi).enumerate() {
             let wy = self.wy[j];
             let in_band = (self.first..self.first + self.rows as i64).contains(&ky);
