@@ -230,7 +230,8 @@ pub struct ImportArgs {
     #[arg(long)]
     pub strict: bool,
     /// pbrt-v4 scenes: light `infinite` lights that name an image with this
-    /// image instead (.exr, .hdr; for scenes shipped without theirs).
+    /// image instead (.exr, .hdr, .pfm, or an 8-bit image read as sRGB; for
+    /// scenes shipped without theirs).
     #[arg(long, value_name = "IMAGE")]
     pub env: Option<PathBuf>,
 }

@@ -95,6 +95,13 @@ AttributeBegin
   Shape "sphere" "float radius" 0.4 "float zmin" -0.3 "float zmax" 0.35 "float phimax" 300
 AttributeEnd
 Shape "sphere" "float radius" 0.2
+AttributeBegin
+  ReverseOrientation
+  Material "dielectric" "float eta" 1.5
+  Translate 0.2 0.4 -1.2
+  Shape "sphere" "float radius" 0.25
+  Shape "trianglemesh" "point3 P" [0 0 0  0.5 0 0  0 0.5 0.2] "normal N" [0 0 1  0 0 1  0 0 1]
+AttributeEnd
 "#;
 
 #[test]
@@ -104,6 +111,10 @@ fn shapes_lenses_and_emitters_convert_to_the_same_image() {
     assert_eq!(a.scene.primitives().len(), b.scene.primitives().len());
     assert_eq!(a.scene.area_lights().len(), b.scene.area_lights().len());
     assert_eq!(a.scene.area_lights()[0].reverse, b.scene.area_lights()[0].reverse);
+    // ReverseOrientation turns the emitting disk, the glass sphere and the
+    // glass triangle inside out, in both scenes.
+    let reversed = |s: &LoadedScene| s.scene.primitives().iter().filter(|p| p.reverse_orientation()).count();
+    assert_eq!((reversed(&a), reversed(&b)), (3, 3));
     assert_eq!(a.scene.lights(), b.scene.lights());
     assert_same_image(&a, &b);
 }

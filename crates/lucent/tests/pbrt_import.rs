@@ -345,3 +345,144 @@ fn an_environment_override_replaces_a_missing_map() {
     .unwrap();
     assert!(s.scene.environment().is_some());
 }
+
+/// The geometric and shading normals of the first hit of a ray from
+/// `origin` along `dir`.
+fn normals_at(s: &LoadedScene, origin: Vec3, dir: Vec3) -> (Vec3, Vec3) {
+    let si = s.scene.intersect(&lucent::geometry::Ray::new(origin, dir), f32::INFINITY).expect("a hit");
+    (si.n, si.ns)
+}
+
+#[test]
+fn reverse_orientation_turns_every_shape_inside_out() {
+    let down = (Vec3::new(0.5, 0.25, 1.0), -Vec3::Z);
+    // A quad wound around +z, with vertex normals N pointing -z (as a mesh
+    // whose file needs ReverseOrientation to face outwards).
+    let inward = format!("{QUAD} \"normal N\" [0 0 -1  0 0 -1  0 0 -1  0 0 -1]");
+    let (n, ns) = normals_at(&import(&scene("", &inward)), down.0, down.1);
+    assert_eq!((n, ns), (-Vec3::Z, -Vec3::Z), "the geometric normal follows N");
+    // pbrt-v4 negates N under ReverseOrientation; the geometric normal
+    // follows it.
+    let (n, ns) = normals_at(&import(&scene("", &format!("ReverseOrientation\n{inward}"))), down.0, down.1);
+    assert_eq!((n, ns), (Vec3::Z, Vec3::Z));
+    // Without N the winding's normal is negated.
+    assert_eq!(normals_at(&import(&scene("", QUAD)), down.0, down.1).0, Vec3::Z);
+    let (n, ns) = normals_at(&import(&scene("", &format!("ReverseOrientation\n{QUAD}"))), down.0, down.1);
+    assert_eq!((n, ns), (-Vec3::Z, -Vec3::Z));
+    // Quadrics: a sphere's normal points inwards, also under a mirror.
+    let towards = (Vec3::new(0.0, 0.0, 5.0), -Vec3::Z);
+    assert!(close(normals_at(&import(&scene("", "Shape \"sphere\"")), towards.0, towards.1).0, Vec3::Z));
+    for world in ["ReverseOrientation\nShape \"sphere\"", "ReverseOrientation\nScale -1 1 1\nShape \"sphere\""] {
+        let (n, ns) = normals_at(&import(&scene("", world)), towards.0, towards.1);
+        assert!(close(n, -Vec3::Z) && close(ns, -Vec3::Z), "{world}: {n} {ns}");
+    }
+    // The flag is part of the graphics state: AttributeEnd restores it.
+    let s = import(&scene("", "AttributeBegin\nReverseOrientation\nAttributeEnd\nShape \"sphere\""));
+    assert!(!s.scene.primitives()[0].reverse_orientation());
+    let s = import(&scene("", "ReverseOrientation\nReverseOrientation\nShape \"sphere\""));
+    assert!(!s.scene.primitives()[0].reverse_orientation());
+}
+
+#[test]
+fn a_reversed_mesh_with_normals_emits_on_the_side_opposite_them() {
+    // pbrt-v4 negates N first, then the light emits on the side of the
+    // (negated) normals.
+    let up = format!("{QUAD} \"normal N\" [0 0 1  0 0 1  0 0 1  0 0 1]");
+    let p = Vec3::new(0.5, 0.25, 0.0);
+    for (reverse, side) in [("", Vec3::Z), ("ReverseOrientation\n", -Vec3::Z)] {
+        let s = import(&scene("", &format!("{reverse}AreaLightSource \"diffuse\" \"rgb L\" [4 4 4]\n{up}")));
+        let light = &s.scene.area_lights()[0];
+        assert_eq!(light.emitted(p, Vec2::ZERO, side), Color::splat(4.0), "{reverse}");
+        assert_eq!(light.emitted(p, Vec2::ZERO, -side), Color::ZERO, "{reverse}");
+    }
+}
+
+/// A closed glass box (two unit quads per axis), its vertex normals
+/// pointing inwards, in front of a white quad light.
+fn glass_box(reverse: bool, inward: bool) -> String {
+    let sign = if inward { -1.0 } else { 1.0 };
+    let mut faces = String::new();
+    // Each face: corners in counter-clockwise order seen from outside.
+    let quads: [([f32; 3], [[f32; 3]; 4]); 6] = [
+        ([0.0, 0.0, -1.0], [[-1., -1., -1.], [-1., 1., -1.], [1., 1., -1.], [1., -1., -1.]]),
+        ([0.0, 0.0, 1.0], [[-1., -1., 1.], [1., -1., 1.], [1., 1., 1.], [-1., 1., 1.]]),
+        ([-1.0, 0.0, 0.0], [[-1., -1., -1.], [-1., -1., 1.], [-1., 1., 1.], [-1., 1., -1.]]),
+        ([1.0, 0.0, 0.0], [[1., -1., -1.], [1., 1., -1.], [1., 1., 1.], [1., -1., 1.]]),
+        ([0.0, -1.0, 0.0], [[-1., -1., -1.], [1., -1., -1.], [1., -1., 1.], [-1., -1., 1.]]),
+        ([0.0, 1.0, 0.0], [[-1., 1., -1.], [-1., 1., 1.], [1., 1., 1.], [1., 1., -1.]]),
+    ];
+    for (n, corners) in quads {
+        let p: Vec<String> = corners.iter().map(|c| format!("{} {} {}", c[0], c[1], c[2])).collect();
+        let n = format!("{} {} {}", n[0] * sign, n[1] * sign, n[2] * sign);
+        faces += &format!(
+            "Shape \"trianglemesh\" \"point3 P\" [{}] \"integer indices\" [0 1 2 0 2 3] \"normal N\" [{n} {n} {n} {n}]\n",
+            p.join("  ")
+        );
+    }
+    let reverse = if reverse { "ReverseOrientation\n" } else { "" };
+    format!(
+        "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 30\nFilm \"rgb\" \"integer xresolution\" 24 \"integer yresolution\" 24\nSampler \"independent\" \"integer pixelsamples\" 8\nIntegrator \"path\" \"integer maxdepth\" 8\nWorldBegin\nAttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\nShape \"trianglemesh\" \"point3 P\" [-4 -4 3  4 -4 3  4 4 3  -4 4 3] \"integer indices\" [0 2 1 0 3 2]\nAttributeEnd\nAttributeBegin\nRotate 35 1 1 0\n{reverse}Material \"dielectric\" \"float eta\" 1.5\n{faces}AttributeEnd\n"
+    )
+}
+
+#[test]
+fn a_glass_box_with_inward_normals_is_fixed_by_reverse_orientation() {
+    let render = |text: &str| {
+        let s = import(text);
+        lucent::render::render(&s.scene, &s.settings, lucent::render::RenderOptions::default()).unwrap().film
+    };
+    let outward = render(&glass_box(false, false));
+    let fixed = render(&glass_box(true, true));
+    let broken = render(&glass_box(false, true));
+    // Reversing the inward normals gives the outward box exactly: the same
+    // rays enter and leave the glass at the same points.
+    assert_eq!(outward.pixels(), fixed.pixels());
+    // With its normals inwards and no ReverseOrientation, the box swaps
+    // inside and outside (light bends the wrong way, and is totally
+    // reflected where it should pass): a different image.
+    let mean = |f: &lucent::film::Film| f.pixels().iter().map(|c| c.x as f64).sum::<f64>() / 576.0;
+    let diff = |a: &lucent::film::Film, b: &lucent::film::Film| {
+        a.pixels().iter().zip(b.pixels()).map(|(p, q)| (p.x - q.x).abs() as f64).sum::<f64>() / 576.0
+    };
+    assert!(diff(&outward, &broken) > 0.1 * mean(&outward), "{} vs {}", diff(&outward, &broken), mean(&outward));
+}
+
+/// A PFM file (little-endian, so a negative scale), `w × h` of one colour.
+fn pfm(w: u32, h: u32, c: [f32; 3]) -> Vec<u8> {
+    let mut bytes = format!("PF\n{w} {h}\n-1.0\n").into_bytes();
+    for _ in 0..w * h {
+        for v in c {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    bytes
+}
+
+#[test]
+fn pfm_environment_maps_load_square_as_equal_area_else_lat_long() {
+    use lucent::light::{Environment, EnvironmentMapping};
+    for (w, h, mapping) in [(8, 8, EnvironmentMapping::EqualArea), (16, 8, EnvironmentMapping::Equirectangular)] {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("sky.pfm"), pfm(w, h, [0.25, 0.5, 2.0])).unwrap();
+        let path = dir.path().join("scene.pbrt");
+        std::fs::write(
+            &path,
+            "WorldBegin\nLightSource \"infinite\" \"string filename\" \"sky.pfm\" \"float scale\" 2\n",
+        )
+        .unwrap();
+        let s = import_pbrt(&path, &ImportOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        let Some(Environment::Image(map)) = s.scene.environment() else { panic!("an image environment") };
+        assert_eq!((map.width(), map.height(), map.mapping()), (w, h, mapping));
+        assert_eq!(map.pixel(3, 5), Color::new(0.5, 1.0, 4.0));
+        assert!(s.files.iter().any(|f| f.ends_with("sky.pfm")), "{:?}", s.files);
+    }
+    // A damaged map names the file and says why.
+    let dir = tempfile::tempdir().unwrap();
+    let mut short = pfm(8, 8, [1.0; 3]);
+    short.truncate(40);
+    std::fs::write(dir.path().join("sky.pfm"), short).unwrap();
+    let path = dir.path().join("scene.pbrt");
+    std::fs::write(&path, "WorldBegin\nLightSource \"infinite\" \"string filename\" \"sky.pfm\"\n").unwrap();
+    let e = import_pbrt(&path, &ImportOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("sky.pfm") && e.contains("truncated") && e.contains("scene.pbrt:2:"), "{e}");
+}

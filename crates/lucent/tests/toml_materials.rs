@@ -369,3 +369,23 @@ fn the_documented_material_and_texture_examples_parse() {
     }
     assert!(n >= 4, "{n} examples");
 }
+
+#[test]
+fn reverse_orientation_turns_any_object_inside_out() {
+    let glass = "[materials.glass.dielectric]\neta = 1.5\n";
+    let s = scene(&format!("{glass}[[sphere]]\nradius = 1\nmaterial = \"glass\"\nreverse_orientation = true\n"));
+    assert!(s.scene.primitives()[0].reverse_orientation());
+    let ray = lucent::geometry::Ray::new(lucent::geometry::Vec3::new(0.0, 0.0, -5.0), lucent::geometry::Vec3::Z);
+    let si = s.scene.intersect(&ray, f32::INFINITY).unwrap();
+    // The hit at (0, 0, -1) reports the inward normal +z.
+    assert!((si.n - lucent::geometry::Vec3::Z).length() < 1e-6, "{}", si.n);
+    assert!((si.ns - lucent::geometry::Vec3::Z).length() < 1e-6, "{}", si.ns);
+    // An emitter turned inside out emits from its back.
+    let s = scene(&format!(
+        "{glass}[[sphere]]\nradius = 1\nmaterial = \"glass\"\nemission = [1, 1, 1]\nreverse_orientation = true\n"
+    ));
+    assert!(s.scene.primitives()[0].reverse_orientation() && s.scene.area_lights()[0].reverse);
+    // `two_sided` still needs `emission`.
+    let e = error(&format!("{glass}[[sphere]]\nradius = 1\nmaterial = \"glass\"\ntwo_sided = true\n"));
+    assert!(e.contains("`two_sided` applies only with `emission`"), "{e}");
+}

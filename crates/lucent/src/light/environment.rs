@@ -63,6 +63,7 @@ use crate::color::{luminance, Color};
 use crate::geometry::{Transform, Vec2, Vec3};
 use crate::sampling::{uniform_sphere, PiecewiseConstant2D};
 use crate::texels::{check_image_size, ImageSizeError, TexelGrid};
+use crate::texture::{read_image, ColorEncoding, ImageError, TextureImage};
 use glam::Mat3;
 use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
@@ -154,28 +155,11 @@ impl Default for MapOptions {
 /// Why an environment image cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum EnvironmentError {
-    /// The file cannot be opened or read.
-    #[error("cannot read environment map '{path}': {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        source: std::io::Error,
-    },
-    /// The extension is neither `.hdr` nor `.exr`.
-    #[error("cannot read environment map '{path}': unknown extension (accepted: .hdr, .exr)")]
-    UnknownExtension {
-        /// The file.
-        path: PathBuf,
-    },
-    /// The decoder rejected the file.
-    #[error("cannot read environment map '{path}': {source}")]
-    Decode {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        source: image::ImageError,
-    },
+    /// The file cannot be read or decoded (any format
+    /// [`read_image`](crate::texture::read_image) reads: EXR, HDR, PFM, PNG,
+    /// JPEG, TGA, BMP, QOI).
+    #[error("cannot read the environment map: {0}")]
+    Image(#[from] ImageError),
     /// The image is empty or too large.
     #[error("environment map '{path}': {source}")]
     Size {
@@ -657,9 +641,10 @@ impl EnvironmentMap {
 }
 
 impl Environment {
-    /// An environment image read from a Radiance `.hdr` or OpenEXR `.exr`
-    /// file (chosen by extension), multiplied by `scale` and turned by
-    /// `rotation` degrees about `+y` (see the module docs).
+    /// A lat-long environment image read from a file
+    /// ([`read_environment_image`]: EXR, HDR, PFM or an 8-bit format),
+    /// multiplied by `scale` and turned by `rotation` degrees about `+y`
+    /// (see the module docs).
     pub fn from_file(path: impl AsRef<Path>, scale: f32, rotation: f32) -> Result<Self, EnvironmentError> {
         let path = path.as_ref();
         if !(scale >= 0.0 && scale.is_finite()) {
@@ -668,27 +653,40 @@ impl Environment {
         if !rotation.is_finite() {
             return Err(EnvironmentError::Rotation(rotation));
         }
-        let (width, height, pixels) = read_float_image(path)?;
+        let (width, height, pixels) = environment_pixels(&read_environment_image(path)?);
         let q = Mat3::from_rotation_y(rotation.to_radians());
         let map =
             EnvironmentMap::build(path, width, height, pixels, EnvironmentMapping::Equirectangular, q, scale, None)?;
         Ok(Environment::Image(Arc::new(map)))
     }
 
-    /// An environment image read from a Radiance `.hdr` or OpenEXR `.exr`
-    /// file (chosen by extension), with the mapping, placement and scale of
-    /// `options` (pbrt-v4's `infinite` light with a `filename`: use
-    /// [`MapOptions::default`], the equal-area mapping, and set the
-    /// transform, scale and illuminance). A non-square image given as an
-    /// equal-area map is refused ([`EnvironmentError::NotSquare`]).
+    /// An environment image read from a file ([`read_environment_image`]),
+    /// with the mapping, placement and scale of `options` (pbrt-v4's
+    /// `infinite` light with a `filename`: use [`MapOptions::default`], the
+    /// equal-area mapping, and set the transform, scale and illuminance). A
+    /// non-square image given as an equal-area map is refused
+    /// ([`EnvironmentError::NotSquare`]).
     pub fn from_file_with(path: impl AsRef<Path>, options: &MapOptions) -> Result<Self, EnvironmentError> {
         let path = path.as_ref();
         if !(options.scale >= 0.0 && options.scale.is_finite()) {
             return Err(EnvironmentError::Scale(options.scale));
         }
         orthogonal_part(&options.light_to_world)?;
-        let (width, height, pixels) = read_float_image(path)?;
-        Ok(Environment::Image(Arc::new(EnvironmentMap::from_options(path, width, height, pixels, options)?)))
+        Self::from_image_with(path, &read_environment_image(path)?, options)
+    }
+
+    /// An environment from an image already read from `source` (with
+    /// [`read_environment_image`]; `source` names it in messages and in
+    /// [`EnvironmentMap::source`]), with the mapping, placement and scale of
+    /// `options`. For a caller that looks at the image before it picks the
+    /// mapping, as pbrt-v4's importer does (a square image is equal-area).
+    pub fn from_image_with(
+        source: &Path,
+        image: &TextureImage,
+        options: &MapOptions,
+    ) -> Result<Self, EnvironmentError> {
+        let (width, height, pixels) = environment_pixels(image);
+        Ok(Environment::Image(Arc::new(EnvironmentMap::from_options(source, width, height, pixels, options)?)))
     }
 
     /// pbrt-v4's `infinite` light without an image: radiance `l · scale`
@@ -763,35 +761,27 @@ impl Environment {
     }
 }
 
-/// Read a float RGB image; the decoder is chosen by extension and the size
-/// is checked before the pixels are allocated.
-fn read_float_image(path: &Path) -> Result<(u32, u32, Vec<Color>), EnvironmentError> {
-    use image::ImageDecoder;
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    let is_hdr = match ext.as_deref() {
-        Some("hdr") => true,
-        Some("exr") => false,
-        _ => return Err(EnvironmentError::UnknownExtension { path: path.to_owned() }),
-    };
-    let file = std::fs::File::open(path).map_err(|source| EnvironmentError::Io { path: path.to_owned(), source })?;
-    let reader = std::io::BufReader::new(file);
-    let decode = |source| EnvironmentError::Decode { path: path.to_owned(), source };
-    let size = |source| EnvironmentError::Size { path: path.to_owned(), source };
-    let image = if is_hdr {
-        let decoder = image::codecs::hdr::HdrDecoder::new(reader).map_err(decode)?;
-        let (w, h) = decoder.dimensions();
-        check_image_size(w, h).map_err(size)?;
-        image::DynamicImage::from_decoder(decoder).map_err(decode)?
-    } else {
-        let decoder = image::codecs::openexr::OpenExrDecoder::new(reader).map_err(decode)?;
-        let (w, h) = decoder.dimensions();
-        check_image_size(w, h).map_err(size)?;
-        image::DynamicImage::from_decoder(decoder).map_err(decode)?
-    };
-    let rgb = image.into_rgb32f();
-    let (w, h) = rgb.dimensions();
-    let pixels = rgb.pixels().map(|p| Color::new(p[0], p[1], p[2])).collect();
-    Ok((w, h, pixels))
+/// Read an environment image with the one image reader that textures use
+/// too ([`read_image`]): OpenEXR, Radiance HDR and PFM are linear radiance;
+/// PNG, JPEG, TGA, BMP and QOI are decoded from sRGB, as pbrt-v4's
+/// `Image::Read` does for an `infinite` light (module table of
+/// [`crate::texture`]). The format is found from the file's contents (PFM
+/// also from its extension), and the size is checked before any texel is
+/// decoded.
+pub fn read_environment_image(path: &Path) -> Result<TextureImage, EnvironmentError> {
+    Ok(read_image(path, ColorEncoding::pbrt_default_for(path))?)
+}
+
+/// An image's texels as RGB radiance, row by row from the top: a grey image
+/// gives equal channels, an alpha channel is left out (radiance has none).
+fn environment_pixels(image: &TextureImage) -> (u32, u32, Vec<Color>) {
+    let c = image.channels();
+    let pixels = image
+        .data()
+        .chunks_exact(c)
+        .map(|t| if c == 1 { Color::splat(t[0]) } else { Color::new(t[0], t[1], t[2]) })
+        .collect();
+    (image.width(), image.height(), pixels)
 }
 
 #[cfg(test)]
@@ -978,29 +968,91 @@ mod tests {
         }
     }
 
+    /// A PFM file (little-endian, rows bottom to top) of `pixels` given
+    /// row by row from the top.
+    fn pfm_file(path: &Path, width: u32, height: u32, pixels: &[Color]) {
+        let mut bytes = format!("PF\n{width} {height}\n-1.0\n").into_bytes();
+        for row in pixels.chunks_exact(width as usize).rev() {
+            for c in row {
+                for v in [c.x, c.y, c.z] {
+                    bytes.extend_from_slice(&v.to_le_bytes());
+                }
+            }
+        }
+        std::fs::write(path, bytes).unwrap();
+    }
+
+    #[test]
+    fn pfm_maps_read_exactly_through_the_texture_reader() {
+        let dir = tempfile::tempdir().unwrap();
+        let px = synthetic();
+        let path = dir.path().join("env.pfm");
+        pfm_file(&path, W, H, &px);
+        let Environment::Image(map) = Environment::from_file(&path, 2.0, 0.0).unwrap() else {
+            panic!("an image environment")
+        };
+        assert_eq!((map.width(), map.height()), (W, H));
+        assert_eq!(map.source(), Some(path.as_path()));
+        for (i, &want) in px.iter().enumerate() {
+            assert_eq!(map.pixel(i as u32 % W, i as u32 / W), want * 2.0, "pixel {i}");
+        }
+        // The same file as a square equal-area map, and a grey PFM.
+        let sq = dir.path().join("sq.pfm");
+        let px: Vec<Color> = (0..16).map(|i| Color::new(i as f32, 0.5, 0.25)).collect();
+        pfm_file(&sq, 4, 4, &px);
+        let options = MapOptions { mapping: EnvironmentMapping::EqualArea, ..MapOptions::default() };
+        let Environment::Image(map) = Environment::from_file_with(&sq, &options).unwrap() else { panic!() };
+        assert_eq!(map.mapping(), EnvironmentMapping::EqualArea);
+        assert_eq!(map.pixel(1, 0), Color::new(1.0, 0.5, 0.25));
+        assert_eq!(map.pixel(2, 3), Color::new(14.0, 0.5, 0.25));
+        let grey = dir.path().join("grey.pfm");
+        let mut bytes = b"Pf\n2 1\n-1\n".to_vec();
+        bytes.extend([0.5f32, 3.0].iter().flat_map(|v| v.to_le_bytes()));
+        std::fs::write(&grey, bytes).unwrap();
+        let Environment::Image(map) = Environment::from_file(&grey, 1.0, 0.0).unwrap() else { panic!() };
+        assert_eq!((map.pixel(0, 0), map.pixel(1, 0)), (Color::splat(0.5), Color::splat(3.0)));
+    }
+
+    #[test]
+    fn eight_bit_maps_are_decoded_from_srgb() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("env.png");
+        image::RgbImage::from_raw(2, 1, vec![255, 0, 188, 0, 0, 0]).unwrap().save(&path).unwrap();
+        let Environment::Image(map) = Environment::from_file(&path, 1.0, 0.0).unwrap() else { panic!() };
+        let c = map.pixel(0, 0);
+        // sRGB 188/255 = 0.737 decodes to ((0.737 + 0.055) / 1.055)^2.4 = 0.502.
+        assert_eq!((c.x, c.y), (1.0, 0.0));
+        assert!((c.z - 0.5029).abs() < 1e-3, "{c}");
+    }
+
     #[test]
     fn bad_files_give_clear_errors() {
         let dir = tempfile::tempdir().unwrap();
         let missing = dir.path().join("missing.hdr");
         let e = Environment::from_file(&missing, 1.0, 0.0).unwrap_err();
-        assert!(matches!(e, EnvironmentError::Io { .. }), "{e:?}");
-        assert!(e.to_string().contains("missing.hdr"), "{e}");
-        let png = dir.path().join("env.png");
-        std::fs::write(&png, b"x").unwrap();
-        let e = Environment::from_file(&png, 1.0, 0.0).unwrap_err();
-        assert!(e.to_string().contains("accepted: .hdr, .exr"), "{e}");
-        for name in ["garbage.hdr", "garbage.exr"] {
+        assert!(matches!(e, EnvironmentError::Image(_)), "{e:?}");
+        assert!(e.to_string().contains("missing.hdr") && e.to_string().contains("cannot read"), "{e}");
+        let txt = dir.path().join("env.txt");
+        std::fs::write(&txt, b"x").unwrap();
+        let e = Environment::from_file(&txt, 1.0, 0.0).unwrap_err();
+        assert!(e.to_string().contains("unknown image format (not PNG, JPEG, TGA, BMP, QOI, EXR, HDR or PFM)"), "{e}");
+        for name in ["garbage.hdr", "garbage.exr", "garbage.pfm"] {
             let p = dir.path().join(name);
             std::fs::write(&p, b"#?RADIANCE\nthis is not an image\n").unwrap();
             let e = Environment::from_file(&p, 1.0, 0.0).unwrap_err();
-            assert!(matches!(e, EnvironmentError::Decode { .. }), "{name}: {e:?}");
+            assert!(matches!(e, EnvironmentError::Image(_)), "{name}: {e:?}");
             assert!(e.to_string().contains(name), "{e}");
         }
         // A header claiming a huge image is refused before allocating.
-        let huge = dir.path().join("huge.hdr");
-        std::fs::write(&huge, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 100000 +X 100000\n").unwrap();
-        let e = Environment::from_file(&huge, 1.0, 0.0).unwrap_err();
-        assert!(e.to_string().contains("too large") || matches!(e, EnvironmentError::Decode { .. }), "{e}");
+        for (name, bytes) in [
+            ("huge.hdr", &b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 100000 +X 100000\n"[..]),
+            ("huge.pfm", &b"PF\n100000 100000\n-1\n\0\0\0\0"[..]),
+        ] {
+            let huge = dir.path().join(name);
+            std::fs::write(&huge, bytes).unwrap();
+            let e = Environment::from_file(&huge, 1.0, 0.0).unwrap_err();
+            assert!(e.to_string().contains("too large") || e.to_string().contains("cannot decode"), "{e}");
+        }
         assert!(matches!(Environment::from_file(&missing, -1.0, 0.0), Err(EnvironmentError::Scale(_))));
         assert!(matches!(Environment::from_file(&missing, 1.0, f32::NAN), Err(EnvironmentError::Rotation(_))));
         let mut px = vec![Color::ONE; 8];

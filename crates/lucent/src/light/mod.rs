@@ -26,7 +26,8 @@ mod set;
 pub use area::{AreaLight, EmissionImage};
 pub use emitter::{Emitter, LiSample, LightSampleContext};
 pub use environment::{
-    equirect_direction, equirect_uv, Environment, EnvironmentError, EnvironmentMap, EnvironmentMapping, MapOptions,
+    equirect_direction, equirect_uv, read_environment_image, Environment, EnvironmentError, EnvironmentMap,
+    EnvironmentMapping, MapOptions,
 };
 pub use equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere};
 pub use pbrt::{DistantLightParams, PointLightParams, SpotLightParams};

@@ -161,7 +161,8 @@ impl SceneFile {
         Ok(())
     }
 
-    /// Add a primitive to the scene, as an area light when it emits.
+    /// Add a primitive to the scene, as an area light when it emits, turned
+    /// inside out by `reverse_orientation`.
     fn place(
         &self,
         scene: &mut SceneBuilder,
@@ -185,16 +186,13 @@ impl SceneFile {
                 };
                 Some(Emission { radiance: radiance.into(), two_sided, reverse, image })
             }
-            None if two_sided || reverse || texture.is_some() => {
-                let key = match (two_sided, reverse) {
-                    (true, _) => "two_sided",
-                    (_, true) => "reverse_orientation",
-                    _ => "emission_texture",
-                };
+            None if two_sided || texture.is_some() => {
+                let key = if two_sided { "two_sided" } else { "emission_texture" };
                 return Err(self.error(at, format!("{what}: `{key}` applies only with `emission`")));
             }
             None => None,
         };
+        let primitive = primitive.with_reverse_orientation(reverse);
         let at = if emission.is_some() { find_key_after(&self.source, "emission", at).or(at) } else { at };
         scene.add(primitive, emission).map_err(|e| e.in_file(self.path.clone(), &self.source, at, what))?;
         Ok(())

@@ -29,8 +29,10 @@ pub(crate) const MIN_MERGED_TRIANGLES: usize = 8;
 /// [`MIN_MERGED_TRIANGLES`], or one whose mesh cannot be built, stays as it
 /// is.
 pub(crate) fn merge_loose_triangles(primitives: &[Primitive]) -> Vec<Primitive> {
-    // Triangles with an alpha cut-out keep their own primitive (and texture).
-    let loose = |p: &Primitive| matches!(p.shape(), Shape::Triangle(_)) && p.alpha().is_none();
+    // Triangles with an alpha cut-out keep their own primitive (and
+    // texture), reversed ones their flag.
+    let loose =
+        |p: &Primitive| matches!(p.shape(), Shape::Triangle(_)) && p.alpha().is_none() && !p.reverse_orientation();
     if primitives.iter().filter(|p| loose(p)).count() < MIN_MERGED_TRIANGLES {
         return primitives.to_vec();
     }

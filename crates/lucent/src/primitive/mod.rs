@@ -34,6 +34,9 @@ pub struct Primitive {
     face_lights: Option<Arc<[u32]>>,
     /// Alpha cut-out: where it is 0 the surface does not exist.
     alpha: Option<Arc<FloatTexture>>,
+    /// Whether every hit's normals are negated (pbrt-v4's
+    /// `ReverseOrientation`).
+    reverse_orientation: bool,
 }
 
 /// In a per-face light table: the face does not emit.
@@ -51,6 +54,7 @@ impl Primitive {
             area_light: None,
             face_lights: None,
             alpha: None,
+            reverse_orientation: false,
         }
     }
 
@@ -78,6 +82,26 @@ impl Primitive {
             a => Some(Arc::new(a)),
         };
         self
+    }
+
+    /// Turn the surface inside out when `reverse`: every hit reports the
+    /// negated geometric and shading normals, so the side a dielectric
+    /// calls its outside (and a BSDF its upper hemisphere) is the other one.
+    /// This is pbrt-v4's `ReverseOrientation` for a shape whose normal is
+    /// computed at the hit (a quadric's `flipNormal`, PBRT 4th ed., §6.2.2);
+    /// a mesh has the flag applied to its data instead
+    /// ([`TriangleMesh::reverse_orientation`](crate::mesh::TriangleMesh::reverse_orientation)).
+    /// The side an area light emits from is the light's own affair
+    /// ([`Emission::reverse`](crate::scene::Emission::reverse)).
+    pub fn with_reverse_orientation(mut self, reverse: bool) -> Self {
+        self.reverse_orientation = reverse;
+        self
+    }
+
+    /// Whether the surface's normals are negated
+    /// ([`Primitive::with_reverse_orientation`]).
+    pub fn reverse_orientation(&self) -> bool {
+        self.reverse_orientation
     }
 
     /// The alpha cut-out texture, if any.
@@ -206,7 +230,7 @@ impl Primitive {
                 (self.shape.intersect_filtered(object_ray.as_ref().unwrap_or(ray), t_max, &mut accept)?, t.as_ref())
             }
         };
-        let (p, p_error, n, ns, dpdu, dpdv) = match t {
+        let (p, p_error, mut n, mut ns, dpdu, dpdv) = match t {
             None => (hit.p, hit.p_error, hit.n, hit.ns, hit.dpdu, hit.dpdv),
             Some(t) => {
                 let (p, err) = t.point_with_error(hit.p, hit.p_error);
@@ -215,6 +239,9 @@ impl Primitive {
                 (p, err, n, ns, t.vector(hit.dpdu), t.vector(hit.dpdv))
             }
         };
+        if self.reverse_orientation {
+            (n, ns) = (-n, -ns);
+        }
         Some(SurfaceInteraction {
             t: hit.t,
             p,

@@ -46,9 +46,10 @@ macro_rules! emissive_object {
                 /// (default: front only).
                 #[serde(default, skip_serializing_if = "std::ops::Not::not")]
                 pub two_sided: bool,
-                /// Whether a one-sided emitter emits from its back, the side
-                /// opposite its normal (pbrt-v4's `ReverseOrientation`;
-                /// default false).
+                /// Whether the surface is turned inside out (pbrt-v4's
+                /// `ReverseOrientation`; default false): its normals are
+                /// negated, so a dielectric's outside is the other side,
+                /// and a one-sided emitter emits from its back.
                 #[serde(default, skip_serializing_if = "std::ops::Not::not")]
                 pub reverse_orientation: bool,
                 /// A colour texture (a name under `[textures]`) that

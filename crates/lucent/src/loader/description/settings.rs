@@ -225,8 +225,9 @@ pub struct EnvironmentDesc {
     /// A constant colour (default white, unless `file` is given).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub color: Option<Rgb>,
-    /// An equirectangular (latitude–longitude) `.hdr` or `.exr` image,
-    /// relative to the scene file.
+    /// An equirectangular (latitude–longitude) image, relative to the scene
+    /// file: linear `.exr`, `.hdr` or `.pfm`, or an 8-bit image (PNG, JPEG,
+    /// TGA, BMP, QOI) decoded from sRGB.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub file: Option<String>,
     /// Multiplier (default 1).

@@ -433,10 +433,12 @@ impl Describer {
         }
     }
 
-    /// The emission keys of face `face` of `p`.
+    /// The emission keys of face `face` of `p`, and `reverse_orientation`
+    /// (which in a scene file turns the surface and its light around
+    /// together, as pbrt-v4's `ReverseOrientation` does).
     fn emission(&mut self, scene: &Scene, p: &Primitive, face: u32) -> Result<EmissionKeys, String> {
         let Some(l) = p.face_area_light(face).and_then(|i| scene.area_lights().get(i as usize)) else {
-            return Ok(EmissionKeys::default());
+            return Ok(EmissionKeys { reverse_orientation: p.reverse_orientation(), ..EmissionKeys::default() });
         };
         let mut radiance = l.radiance;
         let texture = match &l.image {
@@ -456,7 +458,7 @@ impl Describer {
         Ok(EmissionKeys {
             emission: Some(rgb(radiance)),
             two_sided: l.two_sided,
-            reverse_orientation: l.reverse && !l.two_sided,
+            reverse_orientation: p.reverse_orientation() || (l.reverse && !l.two_sided),
             emission_texture: texture,
         })
     }

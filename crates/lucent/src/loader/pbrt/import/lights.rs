@@ -17,7 +17,7 @@ use super::spectra::{param_loc, SpectrumUse};
 use super::{AreaLightSpec, Importer};
 use crate::color::Color;
 use crate::geometry::Vec3;
-use crate::light::{Environment, EnvironmentMapping, Falloff, Light, MapOptions};
+use crate::light::{read_environment_image, Environment, EnvironmentMapping, Falloff, Light, MapOptions};
 use crate::loader::pbrt::{Loc, ParamList, PbrtError};
 use std::f32::consts::PI;
 
@@ -156,8 +156,11 @@ impl Importer<'_> {
         let illuminance = self.photometric(params, "illuminance", loc)?;
         // pbrt-v4 ships square equal-area octahedral maps; a non-square
         // image is read as latitude–longitude (what most users have).
-        let (w, h) = image::image_dimensions(&path)
-            .map_err(|e| PbrtError::at(&at, format!("cannot read the environment map {}: {e}", path.display())))?;
+        // One reader for every format (EXR, HDR, PFM, 8-bit), shared with
+        // image textures; the image is read once and its size picks the
+        // mapping.
+        let image = read_environment_image(&path).map_err(|e| PbrtError::at(&at, e.to_string()))?;
+        let (w, h) = (image.width(), image.height());
         // pbrt's light space is z-up; a lat-long image is y-up in its own
         // frame, so it is first turned (y → z) to keep the scene's zenith.
         let (mapping, light_to_world) = if w == h {
@@ -166,7 +169,7 @@ impl Importer<'_> {
             (EnvironmentMapping::Equirectangular, crate::geometry::Transform::rotate_x(90.0).then(&world_from_light))
         };
         let options = MapOptions { mapping, light_to_world, scale, illuminance };
-        let env = Environment::from_file_with(&path, &options)
+        let env = Environment::from_image_with(&path, &image, &options)
             .map_err(|e| PbrtError::at(&at, format!("LightSource \"infinite\": {e}")))?;
         self.files.push(path);
         self.builder.set_environment(env).map_err(|e| builder_error(loc, e))?;

@@ -8,6 +8,14 @@
 //! of the shape's normal, flipped by `ReverseOrientation`; for meshes with
 //! per-vertex normals `N`, the side those normals point to (pbrt-v4 makes
 //! the geometric normal face the shading normal).
+//!
+//! `ReverseOrientation` turns every shape created under it inside out, as
+//! in pbrt-v4: a quadric's normal is negated at each hit (`flipNormal`), a
+//! triangle mesh's vertex normals `N` are negated when it is created and
+//! its geometric normal follows them (or, without `N`, is negated). lucent
+//! does both through [`Primitive::with_reverse_orientation`], which
+//! negates the geometric and the shading normal of every hit: the side a
+//! dielectric calls outside, and so whether a ray enters or leaves it.
 
 use super::builder_error;
 use super::{AreaLightSpec, Importer};
@@ -49,7 +57,7 @@ impl Importer<'_> {
         let shape: Shape = match ty {
             "trianglemesh" => {
                 let mesh = self.triangle_mesh(params, loc)?;
-                self.mesh_shape(mesh, transform, area.as_ref(), reverse, loc)?
+                self.mesh_shape(mesh, transform, area.as_ref(), loc)?
             }
             "plymesh" => {
                 let name = params
@@ -63,7 +71,7 @@ impl Importer<'_> {
                 let mesh = crate::mesh::load_ply(&path)
                     .map_err(|e| PbrtError::at(&super::spectra::param_loc(params, "filename", loc), e.to_string()))?;
                 self.files.push(path);
-                self.mesh_shape(mesh, transform, area.as_ref(), reverse, loc)?
+                self.mesh_shape(mesh, transform, area.as_ref(), loc)?
             }
             "loopsubdiv" => {
                 let levels = params.int("levels")?.unwrap_or(3);
@@ -76,7 +84,7 @@ impl Importer<'_> {
                 let (positions, indices) = self.positions_and_indices(params, loc, "loopsubdiv")?;
                 let mesh = crate::mesh::loop_subdivide(&positions, &indices, levels as u32)
                     .map_err(|e| PbrtError::at(loc, format!("loopsubdiv: {}", e.message)))?;
-                self.mesh_shape(mesh, transform, area.as_ref(), reverse, loc)?
+                self.mesh_shape(mesh, transform, area.as_ref(), loc)?
             }
             "bilinearmesh" => {
                 let positions =
@@ -96,7 +104,7 @@ impl Importer<'_> {
                 let quads: Vec<[u32; 4]> = indices.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect();
                 let mesh = crate::mesh::bilinear_patches(&positions, &quads, uvs.as_deref(), normals.as_deref())
                     .map_err(|e| PbrtError::at(loc, format!("bilinearmesh: {}", e.message)))?;
-                self.mesh_shape(mesh, transform, area.as_ref(), reverse, loc)?
+                self.mesh_shape(mesh, transform, area.as_ref(), loc)?
             }
             "sphere" => {
                 let radius = positive(params, "radius", 1.0, loc)?;
@@ -145,16 +153,16 @@ impl Importer<'_> {
                 );
             }
         };
-        // Meshes are oriented face by face above; other shapes emit from
-        // their outside (normal side) unless ReverseOrientation is set.
-        let reverse = reverse && !matches!(shape, Shape::Mesh(_));
+        // Meshes are oriented face by face above, as if not reversed; every
+        // shape then emits from its front (normal side), or from its back
+        // under ReverseOrientation.
         let emission = area.as_ref().map(|a| Emission {
             radiance: a.radiance,
             two_sided: a.two_sided,
             reverse,
             image: a.image.clone(),
         });
-        let mut primitive = Primitive::new(shape, transform, material);
+        let mut primitive = Primitive::new(shape, transform, material).with_reverse_orientation(reverse);
         if let Some(alpha) = alpha {
             primitive = primitive.with_alpha(alpha);
         }
@@ -176,17 +184,16 @@ impl Importer<'_> {
     }
 
     /// A mesh shape, its faces oriented so that their winding gives the
-    /// side an area light emits from.
+    /// side an area light emits from when the mesh is not reversed.
     fn mesh_shape(
         &mut self,
         mut mesh: TriangleMesh,
         transform: Transform,
         area: Option<&AreaLightSpec>,
-        reverse: bool,
         loc: &Loc,
     ) -> Result<Shape, PbrtError> {
         if area.is_some_and(|a| !a.two_sided) {
-            orient_for_emission(&mut mesh, reverse, transform.matrix().determinant() < 0.0);
+            orient_for_emission(&mut mesh, transform.matrix().determinant() < 0.0);
         }
         let mesh = Mesh::new(mesh).map_err(|e| PbrtError::at(loc, e.to_string()))?.with_default_uv(DefaultUv::Pbrt);
         Ok(Shape::Mesh(Arc::new(mesh)))
@@ -302,16 +309,17 @@ fn positive(params: &ParamList, name: &str, default: f32, loc: &Loc) -> Result<f
 
 /// Reorder the corners of an emissive mesh's faces so that the winding
 /// (after a transform that mirrors when `mirrored`) points to the side
-/// pbrt-v4 emits from: the per-vertex normals' side when there are
-/// normals, else the winding's own side, flipped by `ReverseOrientation`.
-fn orient_for_emission(mesh: &mut TriangleMesh, reverse: bool, mirrored: bool) {
+/// pbrt-v4 emits from when the mesh is not reversed: the per-vertex
+/// normals' side when there are normals, else the winding's own side.
+/// (Under `ReverseOrientation` the light emits from the other side:
+/// [`Emission::reverse`].)
+fn orient_for_emission(mesh: &mut TriangleMesh, mirrored: bool) {
     for face in &mut mesh.indices {
         let [a, b, c] = face.map(|i| i as usize);
         let (p0, p1, p2) = (mesh.positions[a], mesh.positions[b], mesh.positions[c]);
         let winding = (p1 - p0).cross(p2 - p0);
         let wanted = match &mesh.normals {
             Some(n) => n[a] + n[b] + n[c],
-            None if reverse => -winding,
             None => winding,
         };
         // A mirroring transform turns the winding of the world-space copy
