@@ -199,3 +199,31 @@ def test_fingerprint_does_not_depend_on_where_the_scene_lies(tmp_path):
     assert lucent.Scene.from_dict(d, base_dir=SCENES).fingerprint() == lucent.Scene.from_dict(d, base_dir=tmp_path).fingerprint()
     (tmp_path / "sky.hdr").write_bytes((SCENES / "sky.hdr").read_bytes()[:-1] + b"\0")
     assert lucent.load(tmp_path / "glass-and-metal.toml").fingerprint(spp=4) != here.fingerprint(spp=4)
+
+
+def test_media_through_the_builder():
+    # A camera inside a sphere of absorbing medium under a white sky: every
+    # pixel is exp(-2 sigma_a) (Beer-Lambert, no noise).
+    import math
+
+    scene = lucent.Scene.from_dict(
+        {
+            "camera": {"eye": [0, 0, 0], "look_at": [0, 0, 1], "fov": 90},
+            "render": {"width": 4, "height": 4, "spp": 1, "integrator": "path"},
+            "environment": {"color": [1, 1, 1]},
+            "materials": {"boundary": {"interface": {}}},
+        }
+    )
+    scene.add_medium("tea", sigma_a=[0.5, 1.0, 2.0], sigma_s=[0, 0, 0])
+    scene.set_camera(medium="tea")
+    scene.add("sphere", center=[0, 0, 0], radius=2, material="boundary", medium_inside="tea")
+    image = scene.render(progress=False)
+    for c, sigma in enumerate([0.5, 1.0, 2.0]):
+        assert abs(float(image[..., c].mean()) - math.exp(-2 * sigma)) < 1e-5
+    assert scene.to_dict()["media"] == {"tea": {"homogeneous": {"sigma_a": [0.5, 1.0, 2.0], "sigma_s": [0, 0, 0]}}}
+    # An asymmetry out of range is refused (at the call or when the scene
+    # is next built).
+    with pytest.raises(lucent.SceneError) as e:
+        scene.add_medium("fog", g=2)
+        scene.check()
+    assert "asymmetry" in str(e.value)

@@ -2,6 +2,7 @@
 
 use crate::geometry::{offset_ray_origin, Ray, Vec2, Vec3};
 use crate::material::MaterialId;
+use crate::medium::MediumInterface;
 
 /// Fraction of a shadow ray's length left unchecked at its far end, so the
 /// surface of an area light could never occlude itself (PBRT's
@@ -33,6 +34,10 @@ pub struct SurfaceInteraction {
     /// The area light this point belongs to, if the surface emits: an
     /// index into the scene's area lights.
     pub light: Option<u32>,
+    /// The media on the surface's two sides (inside: opposite `n`). When
+    /// they are the same the surface is no boundary and a ray crossing it
+    /// keeps its medium.
+    pub media: MediumInterface,
 }
 
 impl SurfaceInteraction {

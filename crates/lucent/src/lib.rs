@@ -19,6 +19,7 @@
 //! | acceleration | [`accel`] | a BVH over boxes, built and traversed |
 //! | geometry of objects | [`mesh`], [`shapes`] | triangle meshes from files; where a ray hits a shape |
 //! | appearance | [`texture`], [`bsdf`], [`material`] | images and procedural textures; how surfaces reflect light |
+//! | volumes | [`medium`] | participating media (absorption, scattering, emission) and the media on a surface's two sides |
 //! | hits | [`interaction`], [`primitive`] | shapes placed with materials; the nearest hit of many |
 //! | emission | [`light`] | point, spot, directional, area and environment lights |
 //! | the world | [`camera`], [`scene`] | the camera; an immutable [`scene::Scene`] made by a [`scene::SceneBuilder`] |
@@ -93,6 +94,9 @@ pub mod texture;
 pub mod bsdf;
 
 pub mod material;
+
+// Volumes.
+pub mod medium;
 
 // Hits.
 pub mod interaction;

@@ -306,10 +306,13 @@ fn errors_have_file_line_and_column() {
 
 #[test]
 fn unsupported_features_warn_once_and_fail_under_strict() {
-    let text = scene("", "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\nShape \"sphere\" \"float radius\" 1 \"float bogus\" 3\nShape \"curve\"\nShape \"curve\"");
+    let text = scene("", "MakeNamedMedium \"fog\" \"string type\" \"cloud\"\nShape \"sphere\" \"float radius\" 1 \"float bogus\" 3\nShape \"curve\"\nShape \"curve\"");
     let s = import(&text);
     let w = s.scene.warnings();
-    assert!(w.iter().any(|w| w.contains("MakeNamedMedium \"fog\" is ignored") && w.contains(":3:")), "{w:?}");
+    assert!(
+        w.iter().any(|w| w.contains("MakeNamedMedium \"fog\": \"cloud\" media are not supported") && w.contains(":3:")),
+        "{w:?}"
+    );
     assert!(w.iter().any(|w| w.contains("\"float bogus\" is not used")), "{w:?}");
     assert_eq!(w.iter().filter(|w| w.contains("curve")).count(), 1, "{w:?}");
     let e = strict_err(&text);

@@ -303,6 +303,15 @@ class Scene:
         ``[materials.NAME.KIND]`` in a scene file. Returns the scene."""
         return self._change(lambda d: d.setdefault("materials", {}).__setitem__(name, {kind: params}))
 
+    def add_medium(self, name: str, kind: str = "homogeneous", **params: Any) -> "Scene":
+        """Define (or replace) the participating medium ``name`` of kind
+        ``kind`` (``"homogeneous"``) with its keys (``sigma_a``,
+        ``sigma_s``, ``scale``, ``g``, ``emission``, ``preset``), as
+        ``[media.NAME.KIND]`` in a scene file. Objects name it with
+        ``medium_inside``/``medium_outside``, the camera with ``medium``.
+        Returns the scene."""
+        return self._change(lambda d: d.setdefault("media", {}).__setitem__(name, {kind: params}))
+
     def add_texture(self, name: str, kind: str, **params: Any) -> "Scene":
         """Define (or replace) the texture ``name`` of kind ``kind``, as
         ``[textures.NAME.KIND]`` in a scene file. Returns the scene."""

@@ -5,6 +5,7 @@ use crate::geometry::{Ray, Vec3};
 use crate::interaction::SurfaceInteraction;
 use crate::light::{Emitter, LightSampleContext};
 use crate::material::{Material, MaterialContext};
+use crate::medium::{HenyeyGreenstein, MediumEvent, MediumId};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -53,6 +54,22 @@ use crate::scene::Scene;
 /// Emission found after skipping an interface is weighted as if the
 /// interface were not there.
 ///
+/// **Participating media** (in scenes that have them, [`crate::medium`]):
+/// each ray knows the medium it travels in (the camera's at first, then
+/// whatever the boundaries it crosses say). On a segment in a medium the
+/// medium samples whether and where the ray scatters
+/// ([`crate::medium::HomogeneousMedium::sample`]: analytic transmittance,
+/// a channel chosen by throughput, one-sample MIS over the channels). A
+/// scattering point is a path vertex like a surface, with the
+/// Henyey–Greenstein phase function in the place of the BSDF: next-event
+/// estimation (the light's contribution times the phase function),
+/// weighted by the power heuristic against phase-function sampling, which
+/// continues the path; it counts as a bounce (as in pbrt-v4's `volpath`).
+/// Shadow rays then carry transmittance: they pass through boundaries
+/// without a surface (interfaces) and multiply the transmittance of each
+/// medium they cross; any other surface blocks them. In scenes without
+/// media none of this runs.
+///
 /// With `regularize` (pbrt-v4's option of the same name), after the first
 /// non-specular bounce every BSDF is regularised
 /// ([`Bsdf::regularize`]): near-specular lobes are widened, which trades
@@ -99,6 +116,54 @@ pub(super) fn material_context(si: &SurfaceInteraction, wo: Vec3) -> MaterialCon
 /// shadow rays need more than one visibility test.
 pub(super) fn may_have_interfaces(scene: &Scene) -> bool {
     scene.materials().iter().any(|m| matches!(m, Material::Interface | Material::Mix { .. } | Material::Shaded { .. }))
+}
+
+/// The transmittance of a shadow ray that starts in `medium` (a ray from a
+/// surface or medium point towards the point `target`, with `t_max` just
+/// short of it, or, without a target, to infinity along unit `ray.dir`):
+/// the product of each medium's transmittance over the length it crosses,
+/// through boundaries without a surface (interfaces); zero when a surface
+/// blocks the ray. For scenes with media ([`Scene::has_media`]).
+fn shadow_transmittance(
+    scene: &Scene,
+    mut ray: Ray,
+    mut t_max: f32,
+    target: Option<Vec3>,
+    mut medium: Option<MediumId>,
+) -> Color {
+    let mut tr = Color::ONE;
+    for _ in 0..MAX_INTERFACE_SKIPS {
+        let hit = scene.intersect(&ray, t_max);
+        if let Some(m) = medium {
+            // Ray parameters measure lengths in units of |dir|.
+            let t = hit.as_ref().map_or(t_max, |h| h.t);
+            tr *= scene.medium(m).transmittance(t * ray.dir.length());
+            if tr.max_element() <= 0.0 {
+                return Color::ZERO;
+            }
+        }
+        let Some(hit) = hit else { return tr };
+        let ctx = material_context(&hit, -ray.dir.normalize());
+        if !scene.material(hit.material).passes_through(&ctx, scene.materials()) {
+            return Color::ZERO;
+        }
+        if hit.media.is_transition() {
+            medium = hit.media.medium_along(ray.dir, hit.n);
+        }
+        (ray, t_max) = match target {
+            Some(p) => hit.spawn_ray_to(p),
+            None => (hit.spawn_ray(ray.dir), f32::INFINITY),
+        };
+    }
+    Color::ZERO
+}
+
+/// Where a path scatters: at a surface with its BSDF, or at a point of a
+/// medium with its phase function.
+#[derive(Clone, Copy)]
+enum Scatterer<'a> {
+    Surface(&'a SurfaceInteraction, &'a Bsdf),
+    Medium(Vec3, &'a HenyeyGreenstein),
 }
 
 /// Whether a shadow ray from `si` to the point `target` (or, without one,
@@ -243,8 +308,76 @@ impl Integrator for PathIntegrator {
         let mut ray = Ray::new(camera_ray.origin, camera_ray.dir.normalize());
         stats.camera += 1;
         let mut depth = 0u32;
+        // The medium the ray travels in (always `None` without media).
+        let mut medium = scene.camera_medium();
         loop {
-            let Some(si) = scene.intersect(&ray, f32::INFINITY) else {
+            let hit = scene.intersect(&ray, f32::INFINITY);
+            if let Some(m) = medium {
+                // The segment up to the hit (or infinity) in a medium: it
+                // may scatter on the way, or pass with its transmittance.
+                let t_max = hit.as_ref().map_or(f32::INFINITY, |si| si.t);
+                let (u_channel, u_distance) = (sampler.get_1d(), sampler.get_1d());
+                let m = scene.medium(m);
+                match m.sample(t_max, beta, u_channel, u_distance) {
+                    MediumEvent::Pass { weight } => {
+                        beta *= weight;
+                        if beta.max_element() <= 0.0 || !beta.is_finite() {
+                            break;
+                        }
+                    }
+                    MediumEvent::Scatter { t, weight, emission } => {
+                        if emission.max_element() > 0.0 {
+                            radiance += self.contribution(beta * emission, any_non_specular);
+                        }
+                        beta *= weight;
+                        if beta.max_element() <= 0.0 || !beta.is_finite() || depth >= self.max_depth {
+                            break;
+                        }
+                        let p = ray.at(t);
+                        let wo = -ray.dir;
+                        let phase = m.phase();
+                        let u_light = sampler.get_1d();
+                        let u_point = sampler.get_2d();
+                        if self.direct != DirectLighting::BsdfOnly {
+                            let vertex = Scatterer::Medium(p, phase);
+                            let direct = beta
+                                * self.sample_light(
+                                    scene,
+                                    vertex,
+                                    wo,
+                                    medium,
+                                    u_light,
+                                    u_point,
+                                    stats,
+                                    &mut interfaces,
+                                );
+                            radiance += self.contribution(direct, any_non_specular);
+                        }
+                        let _u_lobe = sampler.get_1d();
+                        let u_dir = sampler.get_2d();
+                        let u_rr = sampler.get_1d();
+                        // HG sampling is exact: f / pdf = 1.
+                        let (wi, pdf) = phase.sample(wo, u_dir);
+                        specular_bounce = false;
+                        indirect = any_non_specular;
+                        any_non_specular = true;
+                        prev_pdf = pdf;
+                        prev_ctx = LightSampleContext { p, n: Vec3::ZERO };
+                        ray = Ray::new(p, wi);
+                        stats.secondary += 1;
+                        if depth + 1 >= RR_DEPTH {
+                            let survive = (beta * eta_scale).max_element().min(0.95);
+                            if u_rr >= survive {
+                                break;
+                            }
+                            beta /= survive;
+                        }
+                        depth += 1;
+                        continue;
+                    }
+                }
+            }
+            let Some(si) = hit else {
                 // The ray leaves the scene: environment light.
                 if let Some((index, env)) = scene.environment_light() {
                     let le = env.le(ray.dir);
@@ -284,6 +417,9 @@ impl Integrator for PathIntegrator {
                 if skips > MAX_INTERFACE_SKIPS {
                     break;
                 }
+                if si.media.is_transition() {
+                    medium = si.media.medium_along(ray.dir, si.n);
+                }
                 ray = si.spawn_ray(ray.dir);
                 continue;
             };
@@ -302,7 +438,9 @@ impl Integrator for PathIntegrator {
             let u_light = sampler.get_1d();
             let u_point = sampler.get_2d();
             if !bsdf.is_specular() && self.direct != DirectLighting::BsdfOnly {
-                let direct = beta * self.sample_light(scene, &si, &bsdf, wo, u_light, u_point, stats, &mut interfaces);
+                let vertex = Scatterer::Surface(&si, &bsdf);
+                let direct =
+                    beta * self.sample_light(scene, vertex, wo, medium, u_light, u_point, stats, &mut interfaces);
                 // The light's last bounce is this vertex: indirect if an
                 // earlier one was non-specular.
                 radiance += self.contribution(direct, any_non_specular);
@@ -330,6 +468,9 @@ impl Integrator for PathIntegrator {
             if bs.transmission {
                 eta_scale *= bs.eta * bs.eta;
             }
+            if si.media.is_transition() {
+                medium = si.media.medium_along(bs.wi, si.n);
+            }
             ray = si.spawn_ray(bs.wi);
             stats.secondary += 1;
 
@@ -349,15 +490,18 @@ impl Integrator for PathIntegrator {
 }
 
 impl PathIntegrator {
-    /// One light sample at `si`, MIS-weighted against BSDF sampling; the
-    /// result still has to be multiplied by the path throughput.
+    /// One light sample at a surface or medium vertex, MIS-weighted
+    /// against sampling the BSDF (or phase function); the result still has
+    /// to be multiplied by the path throughput. `medium` is the medium the
+    /// path's ray was in (shadow rays from a surface start in the medium of
+    /// the side they leave to).
     #[allow(clippy::too_many_arguments)]
     fn sample_light(
         &self,
         scene: &Scene,
-        si: &SurfaceInteraction,
-        bsdf: &Bsdf,
+        vertex: Scatterer<'_>,
         wo: Vec3,
+        medium: Option<MediumId>,
         u_light: f32,
         u_point: crate::geometry::Vec2,
         stats: &mut RayStats,
@@ -366,25 +510,58 @@ impl PathIntegrator {
         let lights = scene.light_set();
         let Some((index, pmf)) = lights.sample(u_light) else { return Color::ZERO };
         let emitter = &lights.emitters()[index];
-        let ctx = LightSampleContext { p: si.p, n: si.n };
+        let ctx = match vertex {
+            Scatterer::Surface(si, _) => LightSampleContext { p: si.p, n: si.n },
+            Scatterer::Medium(p, _) => LightSampleContext { p, n: Vec3::ZERO },
+        };
         let Some(ls) = emitter.sample_li(&ctx, u_point) else { return Color::ZERO };
         if ls.pdf <= 0.0 || ls.l.max_element() <= 0.0 {
             return Color::ZERO;
         }
-        let f = bsdf.f(wo, ls.wi) * ls.wi.dot(bsdf.frame().z).abs();
+        let f = match vertex {
+            Scatterer::Surface(_, bsdf) => bsdf.f(wo, ls.wi) * ls.wi.dot(bsdf.frame().z).abs(),
+            Scatterer::Medium(_, phase) => Color::splat(phase.p(wo, ls.wi)),
+        };
         if f.max_element() <= 0.0 {
             return Color::ZERO;
         }
         stats.shadow += 1;
-        if occluded(scene, si, ls.p_light, ls.wi, interfaces) {
+        let tr = match vertex {
+            Scatterer::Surface(si, _) if !scene.has_media() => {
+                if occluded(scene, si, ls.p_light, ls.wi, interfaces) {
+                    return Color::ZERO;
+                }
+                Color::ONE
+            }
+            Scatterer::Surface(si, _) => {
+                let start = if si.media.is_transition() { si.media.medium_along(ls.wi, si.n) } else { medium };
+                let (ray, t_max) = match ls.p_light {
+                    Some(p) => si.spawn_ray_to(p),
+                    None => (si.spawn_ray(ls.wi), f32::INFINITY),
+                };
+                shadow_transmittance(scene, ray, t_max, ls.p_light, start)
+            }
+            Scatterer::Medium(p, _) => {
+                let (ray, t_max) = match ls.p_light {
+                    Some(target) => (Ray::new(p, target - p), 1.0 - crate::interaction::SHADOW_EPSILON),
+                    None => (Ray::new(p, ls.wi), f32::INFINITY),
+                };
+                shadow_transmittance(scene, ray, t_max, ls.p_light, medium)
+            }
+        };
+        if tr.max_element() <= 0.0 {
             return Color::ZERO;
         }
         let p_light = pmf * ls.pdf;
         if emitter.is_delta() || self.direct == DirectLighting::LightsOnly {
-            f * ls.l / p_light
+            f * tr * ls.l / p_light
         } else {
-            let w = power_heuristic(p_light, bsdf.pdf(wo, ls.wi));
-            f * ls.l * (w / p_light)
+            let p_scatter = match vertex {
+                Scatterer::Surface(_, bsdf) => bsdf.pdf(wo, ls.wi),
+                Scatterer::Medium(_, phase) => phase.p(wo, ls.wi),
+            };
+            let w = power_heuristic(p_light, p_scatter);
+            f * tr * ls.l * (w / p_light)
         }
     }
 }

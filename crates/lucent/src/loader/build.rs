@@ -50,6 +50,7 @@ impl SceneFile {
 
         let mut textures = TextureTable::new(self)?;
         let ids = self.add_materials(&mut scene, &mut textures)?;
+        let media = self.add_media(&mut scene)?;
         for (i, l) in d.point_light.iter().enumerate() {
             let falloff = falloff(l.falloff, Falloff::None);
             scene.add_light(Light::point(l.position.into(), l.color.into(), l.intensity.get(), falloff).map_err(
@@ -98,7 +99,7 @@ impl SceneFile {
             mesh: d.mesh.clone(),
             instance: d.instance.clone(),
         };
-        let mut ctx = BuildContext { ids, meshes: HashMap::new(), active_prototypes: Vec::new(), textures };
+        let mut ctx = BuildContext { ids, meshes: HashMap::new(), active_prototypes: Vec::new(), textures, media };
         let place = Place { label: "", at: None, forced_material: None };
         self.add_group(&mut scene, &mut ctx, &root, Transform::IDENTITY, None, place)?;
         let scene = scene.build().map_err(|e| e.in_file(self.path.clone(), &self.source, None, ""))?;

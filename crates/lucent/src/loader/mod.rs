@@ -15,6 +15,7 @@ mod description;
 mod export;
 mod locate;
 mod materials;
+mod media;
 mod objects;
 pub mod pbrt;
 mod source;

@@ -67,37 +67,42 @@ impl SceneFile {
             } else {
                 Sphere::new(s.center.into(), r)
             };
-            let keys = EmissionKeys::of(s.emission, s.two_sided, s.reverse_orientation, &s.emission_texture);
+            let keys = SurfaceKeys::of(s.emission, s.two_sided, s.reverse_orientation, &s.emission_texture)
+                .with_media(&s.medium_inside, &s.medium_outside);
             let obj = Object::new("sphere", i, &s.name, &s.material, &transform, &s.alpha, keys);
             add(ctx, obj, shape.map(Shape::from), scene)?;
         }
         for (i, d) in group.disk.iter().enumerate() {
             let phi = d.phi_max.map_or(360.0, Finite::get);
             let shape = Disk::new(d.height.get(), d.radius.get(), d.inner_radius.get(), phi).map(Shape::from);
-            let keys = EmissionKeys::of(d.emission, d.two_sided, d.reverse_orientation, &d.emission_texture);
+            let keys = SurfaceKeys::of(d.emission, d.two_sided, d.reverse_orientation, &d.emission_texture)
+                .with_media(&d.medium_inside, &d.medium_outside);
             add(ctx, Object::new("disk", i, &d.name, &d.material, &d.transform, &d.alpha, keys), shape, scene)?;
         }
         for (i, c) in group.cylinder.iter().enumerate() {
             let phi = c.phi_max.map_or(360.0, Finite::get);
             let shape = Cylinder::new(c.radius.get(), c.z_min.get(), c.z_max.get(), phi).map(Shape::from);
-            let keys = EmissionKeys::of(c.emission, c.two_sided, c.reverse_orientation, &c.emission_texture);
+            let keys = SurfaceKeys::of(c.emission, c.two_sided, c.reverse_orientation, &c.emission_texture)
+                .with_media(&c.medium_inside, &c.medium_outside);
             add(ctx, Object::new("cylinder", i, &c.name, &c.material, &c.transform, &c.alpha, keys), shape, scene)?;
         }
         for (i, p) in group.plane.iter().enumerate() {
             let shape = Plane::new(p.point.into(), p.normal.into()).map(Shape::from);
-            let keys = EmissionKeys::default();
+            let keys = SurfaceKeys::default().with_media(&p.medium_inside, &p.medium_outside);
             add(ctx, Object::new("plane", i, &p.name, &p.material, &p.transform, &p.alpha, keys), shape, scene)?;
         }
         for (i, t) in group.triangle.iter().enumerate() {
             let v = t.vertices.map(Vec3::from);
             let n = t.normals.map(|n| n.map(Vec3::from));
             let shape = Triangle::new(v, n).map(Shape::from);
-            let keys = EmissionKeys::of(t.emission, t.two_sided, t.reverse_orientation, &t.emission_texture);
+            let keys = SurfaceKeys::of(t.emission, t.two_sided, t.reverse_orientation, &t.emission_texture)
+                .with_media(&t.medium_inside, &t.medium_outside);
             let obj = Object::new("triangle", i, &t.name, &t.material, &t.transform, &t.alpha, keys);
             add(ctx, obj, shape, scene)?;
         }
         for (i, q) in group.quad.iter().enumerate() {
-            let keys = EmissionKeys::of(q.emission, q.two_sided, q.reverse_orientation, &q.emission_texture);
+            let keys = SurfaceKeys::of(q.emission, q.two_sided, q.reverse_orientation, &q.emission_texture)
+                .with_media(&q.medium_inside, &q.medium_outside);
             let obj = Object::new("quad", i, &q.name, &q.material, &q.transform, &q.alpha, keys);
             match quad_triangles(q.vertices.map(Vec3::from)) {
                 Ok([a, b]) => {
@@ -126,7 +131,8 @@ impl SceneFile {
                 _ => Primitive::new(Shape::Mesh(mesh), t, resolve(ctx, &what, m.material.as_deref(), at)?),
             };
             let primitive = self.with_alpha(ctx, primitive, &m.alpha, &what, at)?;
-            let keys = EmissionKeys::of(m.emission, m.two_sided, m.reverse_orientation, &m.emission_texture);
+            let keys = SurfaceKeys::of(m.emission, m.two_sided, m.reverse_orientation, &m.emission_texture)
+                .with_media(&m.medium_inside, &m.medium_outside);
             self.place(scene, ctx, primitive, keys, &what, at)?;
         }
         for (i, g) in group.group.iter().enumerate() {
@@ -168,11 +174,28 @@ impl SceneFile {
         scene: &mut SceneBuilder,
         ctx: &mut BuildContext<'_>,
         primitive: Primitive,
-        keys: EmissionKeys<'_>,
+        keys: SurfaceKeys<'_>,
         what: &str,
         at: Option<SourceLocation>,
     ) -> Result<(), SceneError> {
-        let EmissionKeys { emission, two_sided, reverse, texture } = keys;
+        let SurfaceKeys { emission, two_sided, reverse, texture, medium_inside, medium_outside } = keys;
+        let mut media = crate::medium::MediumInterface::NONE;
+        for (name, side, key) in [
+            (medium_inside, &mut media.inside, "medium_inside"),
+            (medium_outside, &mut media.outside, "medium_outside"),
+        ] {
+            if let Some(name) = name {
+                *side = Some(ctx.media.get(name).copied().ok_or_else(|| {
+                    let mut known: Vec<&str> = ctx.media.keys().map(String::as_str).collect();
+                    known.sort_unstable();
+                    let known = if known.is_empty() { "none".to_owned() } else { known.join(", ") };
+                    self.error(
+                        find_value(&self.source, key, name).or(at),
+                        format!("{what}: medium \"{name}\" is not defined under [media] (defined: {known})"),
+                    )
+                })?);
+            }
+        }
         let emission = match emission {
             Some(radiance) => {
                 let image = match texture {
@@ -192,7 +215,7 @@ impl SceneFile {
             }
             None => None,
         };
-        let primitive = primitive.with_reverse_orientation(reverse);
+        let primitive = primitive.with_reverse_orientation(reverse).with_media(media);
         let at = if emission.is_some() { find_key_after(&self.source, "emission", at).or(at) } else { at };
         scene.add(primitive, emission).map_err(|e| e.in_file(self.path.clone(), &self.source, at, what))?;
         Ok(())
@@ -358,21 +381,28 @@ struct Object<'a> {
     material: &'a Option<String>,
     transform: &'a [TransformOp],
     alpha: &'a Option<TexValue>,
-    emission: EmissionKeys<'a>,
+    emission: SurfaceKeys<'a>,
 }
 
-/// The emission keys of an object.
+/// The keys of an object about its surface: emission, orientation and
+/// the media on its two sides.
 #[derive(Clone, Copy, Default)]
-pub(super) struct EmissionKeys<'a> {
+pub(super) struct SurfaceKeys<'a> {
     emission: Option<Rgb>,
     two_sided: bool,
     reverse: bool,
     texture: Option<&'a str>,
+    medium_inside: Option<&'a str>,
+    medium_outside: Option<&'a str>,
 }
 
-impl<'a> EmissionKeys<'a> {
+impl<'a> SurfaceKeys<'a> {
     fn of(emission: Option<Rgb>, two_sided: bool, reverse: bool, texture: &'a Option<String>) -> Self {
-        Self { emission, two_sided, reverse, texture: texture.as_deref() }
+        Self { emission, two_sided, reverse, texture: texture.as_deref(), ..Self::default() }
+    }
+
+    fn with_media(self, inside: &'a Option<String>, outside: &'a Option<String>) -> Self {
+        Self { medium_inside: inside.as_deref(), medium_outside: outside.as_deref(), ..self }
     }
 }
 
@@ -384,7 +414,7 @@ impl<'a> Object<'a> {
         material: &'a Option<String>,
         transform: &'a [TransformOp],
         alpha: &'a Option<TexValue>,
-        emission: EmissionKeys<'a>,
+        emission: SurfaceKeys<'a>,
     ) -> Self {
         Self { kind, index, name, material, transform, alpha, emission }
     }
@@ -413,6 +443,8 @@ pub(super) struct BuildContext<'a> {
     pub(super) active_prototypes: Vec<String>,
     /// The `[textures]`, for `alpha` and `emission_texture`.
     pub(super) textures: TextureTable<'a>,
+    /// The `[media]` by name.
+    pub(super) media: HashMap<String, crate::medium::MediumId>,
 }
 
 fn describe(parent: &str, kind: &str, index: usize, name: &Option<String>) -> String {

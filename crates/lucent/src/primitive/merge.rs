@@ -30,9 +30,13 @@ pub(crate) const MIN_MERGED_TRIANGLES: usize = 8;
 /// is.
 pub(crate) fn merge_loose_triangles(primitives: &[Primitive]) -> Vec<Primitive> {
     // Triangles with an alpha cut-out keep their own primitive (and
-    // texture), reversed ones their flag.
-    let loose =
-        |p: &Primitive| matches!(p.shape(), Shape::Triangle(_)) && p.alpha().is_none() && !p.reverse_orientation();
+    // texture), reversed ones their flag, medium boundaries their media.
+    let loose = |p: &Primitive| {
+        matches!(p.shape(), Shape::Triangle(_))
+            && p.alpha().is_none()
+            && !p.reverse_orientation()
+            && p.media() == crate::medium::MediumInterface::NONE
+    };
     if primitives.iter().filter(|p| loose(p)).count() < MIN_MERGED_TRIANGLES {
         return primitives.to_vec();
     }

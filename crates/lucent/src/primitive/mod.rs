@@ -11,6 +11,7 @@ pub(crate) use merge::merge_loose_triangles;
 use crate::geometry::{Bounds3, Ray, Transform, Vec3};
 use crate::interaction::SurfaceInteraction;
 use crate::material::MaterialId;
+use crate::medium::MediumInterface;
 use crate::shapes::{Shape, ShapeHit};
 use crate::texture::{FloatTexture, TextureContext};
 use std::sync::Arc;
@@ -37,6 +38,8 @@ pub struct Primitive {
     /// Whether every hit's normals are negated (pbrt-v4's
     /// `ReverseOrientation`).
     reverse_orientation: bool,
+    /// The media on the two sides of the surface.
+    media: MediumInterface,
 }
 
 /// In a per-face light table: the face does not emit.
@@ -55,6 +58,7 @@ impl Primitive {
             face_lights: None,
             alpha: None,
             reverse_orientation: false,
+            media: MediumInterface::NONE,
         }
     }
 
@@ -87,15 +91,30 @@ impl Primitive {
     /// Turn the surface inside out when `reverse`: every hit reports the
     /// negated geometric and shading normals, so the side a dielectric
     /// calls its outside (and a BSDF its upper hemisphere) is the other one.
-    /// This is pbrt-v4's `ReverseOrientation` for a shape whose normal is
-    /// computed at the hit (a quadric's `flipNormal`, PBRT 4th ed., §6.2.2);
-    /// a mesh has the flag applied to its data instead
-    /// ([`TriangleMesh::reverse_orientation`](crate::mesh::TriangleMesh::reverse_orientation)).
-    /// The side an area light emits from is the light's own affair
-    /// ([`Emission::reverse`](crate::scene::Emission::reverse)).
+    /// This is pbrt-v4's `ReverseOrientation`: a quadric's normal negated
+    /// at the hit (`flipNormal`, PBRT 4th ed., §6.2.2), and a triangle
+    /// mesh's vertex normals negated with the geometric normal following
+    /// them (or, without vertex normals, the geometric normal negated),
+    /// which is the same as negating both at the hit. The side an area
+    /// light emits from is the light's own affair (the scene builder's
+    /// `Emission::reverse`).
     pub fn with_reverse_orientation(mut self, reverse: bool) -> Self {
         self.reverse_orientation = reverse;
         self
+    }
+
+    /// Make the surface the boundary between two media (see
+    /// [`crate::medium`]): `inside` on the side opposite its geometric
+    /// normal, `outside` on the normal's side (after
+    /// [`Primitive::with_reverse_orientation`]).
+    pub fn with_media(mut self, media: MediumInterface) -> Self {
+        self.media = media;
+        self
+    }
+
+    /// The media on the surface's two sides.
+    pub fn media(&self) -> MediumInterface {
+        self.media
     }
 
     /// Whether the surface's normals are negated
@@ -256,6 +275,7 @@ impl Primitive {
                 None => self.area_light.map(|first| first + hit.face),
                 Some(table) => table.get(hit.face as usize).copied().filter(|&l| l != NO_LIGHT),
             },
+            media: self.media,
         })
     }
 

@@ -7,6 +7,7 @@ use crate::color::Color;
 use crate::geometry::{Transform, Vec3};
 use crate::light::{merge_rectangles, AreaLight, EmissionImage, Emitter, Environment, Light, LightSet};
 use crate::material::{Material, MaterialId};
+use crate::medium::{Medium, MediumId};
 use crate::primitive::{merge_loose_triangles, BvhAggregate, Primitive};
 use crate::shapes::{Mesh, Shape, Sphere, Triangle};
 use crate::texture::Texture;
@@ -57,7 +58,7 @@ pub enum EmissionError {
 /// instance of another prototype.
 #[derive(Clone, Debug)]
 enum Member {
-    Primitive(Primitive, Option<Emission>),
+    Primitive(Box<Primitive>, Option<Emission>),
     Instance(Instance),
 }
 
@@ -119,6 +120,8 @@ pub struct SceneBuilder {
     open: Option<(String, Vec<Member>)>,
     /// Instances placed in the scene, expanded by `build`.
     instances: Vec<Instance>,
+    media: Vec<Medium>,
+    camera_medium: Option<MediumId>,
     warnings: Vec<String>,
 }
 
@@ -138,6 +141,8 @@ impl SceneBuilder {
             prototypes: BTreeMap::new(),
             open: None,
             instances: Vec::new(),
+            media: Vec::new(),
+            camera_medium: None,
             warnings: Vec::new(),
         }
     }
@@ -185,6 +190,26 @@ impl SceneBuilder {
     /// The materials added so far.
     pub fn materials(&self) -> &[Material] {
         &self.materials
+    }
+
+    /// Add a participating medium; returns its handle, for
+    /// [`Primitive::with_media`] and [`SceneBuilder::set_camera_medium`].
+    pub fn add_medium(&mut self, medium: Medium) -> Result<MediumId, SceneError> {
+        if self.media.len() >= u32::MAX as usize - 1 {
+            return Err(SceneError::new(None, "too many media"));
+        }
+        self.media.push(medium);
+        Ok(MediumId::new(self.media.len() - 1))
+    }
+
+    /// The medium the camera is in (default: none, vacuum): where camera
+    /// rays start.
+    pub fn set_camera_medium(&mut self, medium: Option<MediumId>) -> Result<&mut Self, SceneError> {
+        if let Some(m) = medium {
+            self.check_medium_id(m)?;
+        }
+        self.camera_medium = medium;
+        Ok(self)
     }
 
     /// Add a point, spot or directional light.
@@ -246,12 +271,16 @@ impl SceneBuilder {
     /// defined, if there is one, else in the scene.
     pub fn add(&mut self, primitive: Primitive, emission: Option<Emission>) -> Result<&mut Self, SceneError> {
         self.check_material_ids(&primitive)?;
+        let media = primitive.media();
+        for m in [media.inside, media.outside].into_iter().flatten() {
+            self.check_medium_id(m)?;
+        }
         if let Some(e) = &emission {
             // Check now, so that an error names the object, not an instance.
             area_shapes(&primitive, e).map_err(|e| SceneError::new(None, e.to_string()))?;
         }
         match &mut self.open {
-            Some((_, members)) => members.push(Member::Primitive(primitive, emission)),
+            Some((_, members)) => members.push(Member::Primitive(Box::new(primitive), emission)),
             None => self.place(primitive, emission)?,
         }
         Ok(self)
@@ -367,6 +396,8 @@ impl SceneBuilder {
             primitives: self.primitives,
             aggregate,
             light_set,
+            media: self.media,
+            camera_medium: self.camera_medium,
             warnings: self.warnings,
         })
     }
@@ -376,6 +407,14 @@ impl SceneBuilder {
             Ok(())
         } else {
             Err(SceneError::new(None, "a material handle from another scene"))
+        }
+    }
+
+    fn check_medium_id(&self, id: MediumId) -> Result<(), SceneError> {
+        if id.index() < self.media.len() {
+            Ok(())
+        } else {
+            Err(SceneError::new(None, "a medium handle from another scene"))
         }
     }
 
@@ -471,7 +510,9 @@ impl SceneBuilder {
                 Member::Primitive(p, emission) => {
                     let t = p.transform().then(&transform);
                     let placed = match forced {
-                        Some(m) => Primitive::new(p.shape().clone(), t, m),
+                        Some(m) => Primitive::new(p.shape().clone(), t, m)
+                            .with_reverse_orientation(p.reverse_orientation())
+                            .with_media(p.media()),
                         None => p.with_transform(t),
                     };
                     self.place(placed, emission.clone())?;

@@ -36,6 +36,7 @@ use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::interaction::SurfaceInteraction;
 use crate::light::{AreaLight, Emitter, Environment, Light, LightSet};
 use crate::material::{Material, MaterialId};
+use crate::medium::{Medium, MediumId};
 use crate::primitive::{Aggregate, BvhAggregate, Primitive};
 
 /// Everything that is rendered: the camera, materials, lights and placed
@@ -55,6 +56,8 @@ pub struct Scene {
     primitives: Vec<Primitive>,
     aggregate: BvhAggregate,
     light_set: LightSet,
+    media: Vec<Medium>,
+    camera_medium: Option<MediumId>,
     warnings: Vec<String>,
 }
 
@@ -105,6 +108,29 @@ impl Scene {
     /// black) last.
     pub fn light_set(&self) -> &LightSet {
         &self.light_set
+    }
+
+    /// The participating media, indexed by [`MediumId`].
+    pub fn media(&self) -> &[Medium] {
+        &self.media
+    }
+
+    /// The medium `id`.
+    #[inline]
+    pub fn medium(&self, id: MediumId) -> &Medium {
+        &self.media[id.index()]
+    }
+
+    /// The medium camera rays start in (`None`: vacuum).
+    pub fn camera_medium(&self) -> Option<MediumId> {
+        self.camera_medium
+    }
+
+    /// Whether the scene has participating media (the path integrator then
+    /// tracks which medium each ray is in).
+    #[inline]
+    pub fn has_media(&self) -> bool {
+        !self.media.is_empty()
     }
 
     /// The environment emitter of [`Scene::light_set`] and its index, if

@@ -4,12 +4,14 @@
 
 mod lights;
 mod materials;
+mod media;
 mod objects;
 mod settings;
 mod textures;
 
 pub use lights::*;
 pub use materials::*;
+pub use media::*;
 pub use objects::*;
 pub use settings::*;
 pub use textures::*;
@@ -40,6 +42,9 @@ pub struct SceneDescription {
     /// Named materials.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub materials: BTreeMap<String, MaterialDesc>,
+    /// Named participating media.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub media: BTreeMap<String, MediumDesc>,
     /// Point lights.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub point_light: Vec<PointLightDesc>,

@@ -27,6 +27,14 @@ macro_rules! object {
             /// surface does not exist, for camera and shadow rays alike.
             #[serde(default, skip_serializing_if = "Option::is_none")]
             pub alpha: Option<TexValue>,
+            /// The medium (a name under `[media]`) on the inside of the
+            /// surface, the side opposite its normal (default: none).
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub medium_inside: Option<String>,
+            /// The medium on the outside, the normal's side (default:
+            /// none).
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub medium_outside: Option<String>,
         }
     };
 }

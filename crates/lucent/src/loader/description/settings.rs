@@ -56,6 +56,9 @@ pub struct CameraDesc {
     /// (default `equal_area`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mapping: Option<SphericalMappingDesc>,
+    /// The medium the camera is in (a name under `[media]`; default none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub medium: Option<String>,
 }
 
 /// pbrt-v4's camera models.

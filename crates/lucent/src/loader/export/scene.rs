@@ -19,6 +19,7 @@ use crate::color::Color;
 use crate::film::{Filter, ToneMap};
 use crate::geometry::{Mat4, Transform, Vec3};
 use crate::light::{Environment, EnvironmentMapping, Falloff, Light};
+use crate::medium::{Medium, MediumInterface};
 use crate::primitive::Primitive;
 use crate::render::{IntegratorKind, RenderSettings};
 use crate::sampling::SamplerKind;
@@ -147,6 +148,7 @@ pub(crate) fn describe(
             environment: None,
             ambient: None,
             materials: BTreeMap::new(),
+            media: scene.media().iter().enumerate().map(|(i, m)| (medium_name(i), medium(m))).collect(),
             point_light: Vec::new(),
             spot_light: Vec::new(),
             directional_light: Vec::new(),
@@ -211,6 +213,31 @@ struct Describer {
 
 /// Names `material-0`… zero-padded to one width, so that the file's
 /// (sorted) order is the scene's and every material keeps its index.
+/// The name under `[media]` of the scene's medium `i`.
+fn medium_name(i: usize) -> String {
+    format!("medium_{}", i + 1)
+}
+
+/// The `medium_inside` and `medium_outside` keys of a surface.
+fn medium_names(media: MediumInterface) -> (Option<String>, Option<String>) {
+    let name = |m: Option<crate::medium::MediumId>| m.map(|m| medium_name(m.index()));
+    (name(media.inside), name(media.outside))
+}
+
+/// A medium's table: its coefficients with the scale applied.
+fn medium(m: &Medium) -> MediumDesc {
+    match m {
+        Medium::Homogeneous(h) => MediumDesc::Homogeneous(HomogeneousDesc {
+            preset: None,
+            sigma_a: Some(rgb(h.sigma_a())),
+            sigma_s: Some(rgb(h.sigma_s())),
+            scale: None,
+            g: (h.phase().g() != 0.0).then(|| Finite(h.phase().g())),
+            emission: (h.le() != Color::ZERO).then(|| rgb(h.le())),
+        }),
+    }
+}
+
 fn material_names(n: usize) -> Vec<String> {
     let width = n.saturating_sub(1).to_string().len();
     (0..n).map(|i| format!("material-{i:0width$}")).collect()
@@ -256,6 +283,7 @@ fn camera(scene: &Scene) -> CameraDesc {
         screen_window: None,
         frame_aspect_ratio: None,
         mapping: None,
+        medium: scene.camera_medium().map(|m| medium_name(m.index())),
     };
     let window = |w: Option<[f32; 4]>| w.map(|w| w.map(Finite));
     match projection {
@@ -468,6 +496,7 @@ impl Describer {
         let transform = transform_ops(&p.transform());
         let EmissionKeys { emission, two_sided, reverse_orientation, emission_texture } = self.emission(scene, p, 0)?;
         let alpha = p.alpha().map(|a| self.textures.float(a)).transpose()?;
+        let (medium_inside, medium_outside) = medium_names(p.media());
         match p.shape() {
             Shape::Sphere(s) => {
                 let (center, z_min, z_max, phi_max) = match s.clipping() {
@@ -490,6 +519,8 @@ impl Describer {
                     reverse_orientation,
                     emission_texture,
                     alpha,
+                    medium_inside: medium_inside.clone(),
+                    medium_outside: medium_outside.clone(),
                 });
             }
             Shape::Plane(pl) => self.d.plane.push(PlaneDesc {
@@ -499,6 +530,8 @@ impl Describer {
                 material,
                 transform,
                 alpha,
+                medium_inside: medium_inside.clone(),
+                medium_outside: medium_outside.clone(),
             }),
             Shape::Rectangle(r) => {
                 let (c, ex, ey) = r.corner_and_edges();
@@ -512,6 +545,8 @@ impl Describer {
                     reverse_orientation,
                     emission_texture,
                     alpha,
+                    medium_inside: medium_inside.clone(),
+                    medium_outside: medium_outside.clone(),
                 })
             }
             Shape::Triangle(t) => self.d.triangle.push(TriangleDesc {
@@ -525,6 +560,8 @@ impl Describer {
                 reverse_orientation,
                 emission_texture,
                 alpha,
+                medium_inside: medium_inside.clone(),
+                medium_outside: medium_outside.clone(),
             }),
             Shape::Disk(disk) => self.d.disk.push(DiskDesc {
                 name: None,
@@ -539,6 +576,8 @@ impl Describer {
                 reverse_orientation,
                 emission_texture,
                 alpha,
+                medium_inside: medium_inside.clone(),
+                medium_outside: medium_outside.clone(),
             }),
             Shape::Cylinder(c) => {
                 let (z_min, z_max) = c.z_range();
@@ -555,6 +594,8 @@ impl Describer {
                     reverse_orientation,
                     emission_texture,
                     alpha,
+                    medium_inside: medium_inside.clone(),
+                    medium_outside: medium_outside.clone(),
                 })
             }
             Shape::Mesh(mesh) if p.face_materials().is_some() => self.split_mesh(scene, p, mesh)?,
@@ -573,6 +614,8 @@ impl Describer {
                     reverse_orientation,
                     emission_texture,
                     alpha,
+                    medium_inside: medium_inside.clone(),
+                    medium_outside: medium_outside.clone(),
                 });
             }
         }
@@ -589,6 +632,7 @@ impl Describer {
         let data = mesh.to_triangle_mesh();
         let transform = transform_ops(&p.transform());
         let alpha = p.alpha().map(|a| self.textures.float(a)).transpose()?;
+        let (medium_inside, medium_outside) = medium_names(p.media());
         for (face, tri) in data.indices.iter().enumerate() {
             let face = face as u32;
             let vertices = tri.map(|i| data.positions[i as usize]);
@@ -609,6 +653,8 @@ impl Describer {
                 reverse_orientation,
                 emission_texture,
                 alpha: alpha.clone(),
+                medium_inside: medium_inside.clone(),
+                medium_outside: medium_outside.clone(),
             });
         }
         Ok(())

@@ -25,6 +25,7 @@
 mod cameras;
 mod lights;
 mod materials;
+mod media;
 mod options;
 mod shapes;
 mod spectra;
@@ -115,6 +116,11 @@ pub(crate) struct GraphicsState {
     pub color_space: crate::spectrum::ColorSpace,
     /// `Attribute "shape"|"light"|"material"|"texture"` defaults.
     pub attributes: HashMap<String, ParamList>,
+    /// The current `MediumInterface`: the names of the media inside and
+    /// outside the shapes that follow (`""`: vacuum).
+    pub medium_inside: String,
+    /// See `medium_inside`.
+    pub medium_outside: String,
 }
 
 /// The importer's state while the directives stream in.
@@ -139,6 +145,12 @@ pub(crate) struct Importer<'a> {
     last_file: Option<std::sync::Arc<PathBuf>>,
     /// Images read for textures, each once.
     pub images: crate::texture::ImageCache,
+    /// Named media (`None`: a kind that is not supported, rendered as
+    /// vacuum).
+    pub media: HashMap<String, Option<crate::medium::MediumId>>,
+    /// The name of the medium the camera is in, and where the camera was
+    /// given (resolved at the end: the medium may be defined after it).
+    camera_medium: Option<(String, Loc)>,
 }
 
 /// Most attribute scopes open at once.
@@ -159,6 +171,8 @@ impl<'a> Importer<'a> {
                 area_light: None,
                 color_space: crate::spectrum::ColorSpace::Srgb,
                 attributes: HashMap::new(),
+                medium_inside: String::new(),
+                medium_outside: String::new(),
             },
             stack: Vec::new(),
             named_coordinate_systems: HashMap::new(),
@@ -169,6 +183,8 @@ impl<'a> Importer<'a> {
             files: Vec::new(),
             last_file: None,
             images: crate::texture::ImageCache::new(),
+            media: HashMap::new(),
+            camera_medium: None,
         }
     }
 
@@ -210,6 +226,9 @@ impl<'a> Importer<'a> {
                 // pbrt-v4: the "camera" coordinate system is world-from-camera.
                 self.named_coordinate_systems.insert("camera".into(), camera_from_world.inverse());
                 self.render.camera = Some((ty, params, camera_from_world, loc.clone()));
+                // pbrt-v4's CameraMedium: the current outside medium.
+                self.camera_medium =
+                    (!self.state.medium_outside.is_empty()).then(|| (self.state.medium_outside.clone(), loc.clone()));
             }
             Directive::Film(ty, params) => {
                 self.require_world(loc, "Film", false)?;
@@ -389,22 +408,12 @@ impl<'a> Importer<'a> {
                 self.check_unused(&params, &format!("AreaLightSource \"{ty}\""))?;
             }
             Directive::MakeNamedMedium(name, params) => {
-                for p in &params.params {
-                    p.used.set(true);
-                }
-                self.warnings.warn(
-                    loc,
-                    format!("participating media are not supported: MakeNamedMedium \"{name}\" is ignored"),
-                )?;
+                self.make_named_medium(&name, &params, loc)?;
+                self.check_unused(&params, &format!("MakeNamedMedium \"{name}\""))?;
             }
             Directive::MediumInterface(inside, outside) => {
-                if !(inside.is_empty() && outside.is_empty()) {
-                    self.warnings.warn_once(
-                        "MediumInterface",
-                        loc,
-                        "participating media are not supported: MediumInterface is ignored (surfaces render as if in vacuum)",
-                    )?;
-                }
+                self.state.medium_inside = inside;
+                self.state.medium_outside = outside;
             }
             Directive::ObjectBegin(name) => {
                 self.require_world(loc, "ObjectBegin", true)?;
@@ -540,6 +549,10 @@ impl<'a> Importer<'a> {
             self.render = render;
         }
         let settings: RenderSettings = self.render.settings.clone().unwrap_or_default();
+        if let Some((name, loc)) = self.camera_medium.take() {
+            let id = self.medium_named(&name, &loc)?;
+            self.builder.set_camera_medium(id).map_err(|e| builder_error(&loc, e))?;
+        }
         for w in self.warnings.messages() {
             self.builder.warn(w.clone());
         }

@@ -162,7 +162,9 @@ impl Importer<'_> {
             reverse,
             image: a.image.clone(),
         });
-        let mut primitive = Primitive::new(shape, transform, material).with_reverse_orientation(reverse);
+        let media = self.current_media(loc)?;
+        let mut primitive =
+            Primitive::new(shape, transform, material).with_reverse_orientation(reverse).with_media(media);
         if let Some(alpha) = alpha {
             primitive = primitive.with_alpha(alpha);
         }
