@@ -2,7 +2,7 @@
 
 use clap::Args;
 use lucent::film::{Film, PendingImage, ToneMap};
-use lucent::tools::{compare, read_image, relative_squared_error, CompareError};
+use lucent::tools::{block_means, compare, read_image, relative_squared_error, CompareError};
 use std::path::PathBuf;
 
 /// Compare an image with a reference: MSE, relative MSE (relative to the
@@ -32,6 +32,16 @@ pub struct DiffArgs {
     /// is not finite.
     #[arg(long, value_name = "OUT")]
     pub heatmap: Option<PathBuf>,
+    /// Also give the relative MSE of the means of N×N blocks of pixels
+    /// (`block_rel_mse` in JSON): two noisy renders of the same image agree
+    /// there to within their noise divided by N, while a real difference in
+    /// brightness stays.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub block: Option<u32>,
+    /// Also write the two images side by side, A on the left (.png or
+    /// .bmp, tone mapped and sRGB-encoded alike).
+    #[arg(long, value_name = "OUT")]
+    pub side_by_side: Option<PathBuf>,
 }
 
 const CHANNELS: [&str; 3] = ["r", "g", "b"];
@@ -41,6 +51,7 @@ pub fn run(args: &DiffArgs) -> Result<(), String> {
     // Reserve the heat map first, so that a bad output path fails before
     // any work, and an existing file is replaced only by a complete one.
     let heatmap = args.heatmap.as_ref().map(PendingImage::create).transpose().map_err(|e| e.to_string())?;
+    let side_by_side = args.side_by_side.as_ref().map(PendingImage::create).transpose().map_err(|e| e.to_string())?;
     let a = read_image(&args.a).map_err(|e| e.to_string())?;
     let b = read_image(&args.b).map_err(|e| e.to_string())?;
     let m = compare(&a, &b).map_err(|e| match e {
@@ -53,6 +64,12 @@ pub fn run(args: &DiffArgs) -> Result<(), String> {
     if let Some(pending) = heatmap {
         pending.write(&heat_map(&a, &b), ToneMap::Clamp, false).map_err(|e| e.to_string())?;
     }
+    if let Some(pending) = side_by_side {
+        pending.write(&beside(&a, &b)?, ToneMap::default(), true).map_err(|e| e.to_string())?;
+    }
+    let block_rel_mse = args
+        .block
+        .map(|n| compare(&block_means(&a, n), &block_means(&b, n)).expect("blocks of images of one size").rel_mse);
 
     if args.json {
         let json = serde_json::json!({
@@ -67,6 +84,8 @@ pub fn run(args: &DiffArgs) -> Result<(), String> {
             "mean_reference": m.mean_reference,
             "width": a.width(),
             "height": a.height(),
+            "block": args.block,
+            "block_rel_mse": block_rel_mse,
         });
         say!("{json}")?;
         return Ok(());
@@ -96,6 +115,9 @@ pub fn run(args: &DiffArgs) -> Result<(), String> {
             ratio(2)
         )?;
     }
+    if let (Some(n), Some(e)) = (args.block, block_rel_mse) {
+        say!("relMSE of {n}×{n} block means {e:.4e}")?;
+    }
     if m.nonfinite > 0 || m.nonfinite_reference > 0 {
         say!(
             "non-finite pixels (left out): {} in '{}', {} in '{}'",
@@ -106,6 +128,18 @@ pub fn run(args: &DiffArgs) -> Result<(), String> {
         )?;
     }
     Ok(())
+}
+
+/// `a` and `b` (of one size) side by side, `a` on the left.
+fn beside(a: &Film, b: &Film) -> Result<Film, String> {
+    let (w, h) = (a.width(), a.height());
+    let mut out = Film::new(2 * w, h).map_err(|e| format!("cannot put the images side by side: {e}"))?;
+    for (y, row) in out.pixels_mut().chunks_exact_mut(2 * w as usize).enumerate() {
+        let at = y * w as usize..(y + 1) * w as usize;
+        row[..w as usize].copy_from_slice(&a.pixels()[at.clone()]);
+        row[w as usize..].copy_from_slice(&b.pixels()[at]);
+    }
+    Ok(out)
 }
 
 /// The false-colour image of the per-pixel relative squared error, in

@@ -175,3 +175,28 @@ fn bad_heat_map_path_fails_before_reading() {
     assert_fails(&lucent(dir.path(), &["diff", "a.exr", "ref.exr", "--heatmap", "no/such/dir/h.png"]), &["h.png"]);
     assert_fails(&lucent(dir.path(), &["diff", "a.exr", "ref.exr", "--heatmap", "h.txt"]), &["h.txt"]);
 }
+
+#[test]
+fn block_means_and_side_by_side() {
+    let dir = TempDir::new().unwrap();
+    pair(dir.path());
+    let out = lucent(dir.path(), &["diff", "a.exr", "ref.exr", "--json", "--block", "2", "--side-by-side", "both.png"]);
+    assert!((out.code == Some(0)), "{}", out.stderr);
+    let v: serde_json::Value = serde_json::from_str(&out.stdout).unwrap();
+    // One 2×2 block: means a (0.375, 0.75, 0.375), reference (0.375,
+    // 0.625, 0.425): relMSE = (0.125²/(0.625²+0.01) + 0.05²/(0.425²+0.01)) / 3.
+    let want = (0.125f64.powi(2) / (0.625f64.powi(2) + 0.01) + 0.05f64.powi(2) / (0.425f64.powi(2) + 0.01)) / 3.0;
+    let got = v["block_rel_mse"].as_f64().unwrap();
+    assert!((got - want).abs() < 1e-6, "{got} vs {want}");
+    assert_eq!(v["block"], 2);
+    let both = lucent::tools::read_image(dir.path().join("both.png")).unwrap();
+    assert_eq!((both.width(), both.height()), (4, 2));
+    // Without --block the key is null, and the text form says nothing of it.
+    let out = lucent(dir.path(), &["diff", "a.exr", "ref.exr", "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&out.stdout).unwrap();
+    assert!(v["block_rel_mse"].is_null());
+    let out = lucent(dir.path(), &["diff", "a.exr", "ref.exr", "--block", "2"]);
+    assert!(out.stdout.contains("relMSE of 2×2 block means"), "{}", out.stdout);
+    let out = lucent(dir.path(), &["diff", "a.exr", "ref.exr", "--block", "0"]);
+    assert_eq!(out.code, Some(2), "{}", out.stderr);
+}

@@ -213,10 +213,61 @@ pub fn compare(a: &Film, b: &Film) -> Result<DiffMetrics, CompareError> {
     })
 }
 
+/// The image of the means of `block × block` tiles of `film` (tiles at the
+/// right and bottom edges may be smaller; pixels with a non-finite channel
+/// are left out of their tile's mean, and a tile with none finite is NaN).
+/// Comparing block means instead of pixels lets two noisy renders of the
+/// same image agree: the noise of a mean of `block²` pixels is `block`
+/// times smaller, while a real difference in brightness stays.
+pub fn block_means(film: &Film, block: u32) -> Film {
+    let block = block.max(1);
+    let (w, h) = (film.width(), film.height());
+    let (bw, bh) = (w.div_ceil(block), h.div_ceil(block));
+    let mut out = Film::new(bw, bh).expect("a smaller size than a valid image's");
+    let mut counts = vec![0u32; (bw * bh) as usize];
+    let mut sums = vec![[0.0f64; 3]; (bw * bh) as usize];
+    for (i, p) in film.pixels().iter().enumerate() {
+        if !p.is_finite() {
+            continue;
+        }
+        let (x, y) = (i as u32 % w / block, i as u32 / w / block);
+        let j = (y * bw + x) as usize;
+        counts[j] += 1;
+        for c in 0..3 {
+            sums[j][c] += p[c] as f64;
+        }
+    }
+    for ((dst, sum), n) in out.pixels_mut().iter_mut().zip(&sums).zip(&counts) {
+        *dst = if *n == 0 {
+            Color::splat(f32::NAN)
+        } else {
+            Color::new(sum[0] as f32, sum[1] as f32, sum[2] as f32) / *n as f32
+        };
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::film::{PendingImage, ToneMap};
+
+    #[test]
+    fn block_means_average_tiles() {
+        let f = film(
+            3,
+            2,
+            &[[1.0, 0.0, 0.0], [3.0, 0.0, 0.0], [5.0, 1.0, 0.0], [1.0, 0.0, 0.0], [3.0, 4.0, 0.0], [7.0, 1.0, 0.0]],
+        );
+        let b = block_means(&f, 2);
+        assert_eq!((b.width(), b.height()), (2, 1));
+        assert_eq!(b.pixels()[0], Color::new(2.0, 1.0, 0.0));
+        assert_eq!(b.pixels()[1], Color::new(6.0, 1.0, 0.0));
+        let mut g = f.clone();
+        g.pixels_mut()[0] = Color::splat(f32::NAN);
+        assert_eq!(block_means(&g, 2).pixels()[0], Color::new(7.0 / 3.0, 4.0 / 3.0, 0.0));
+        assert_eq!(block_means(&f, 1).pixels(), f.pixels());
+    }
 
     fn film(w: u32, h: u32, values: &[[f32; 3]]) -> Film {
         let mut f = Film::new(w, h).unwrap();

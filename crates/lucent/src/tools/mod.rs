@@ -9,7 +9,7 @@ pub mod sky;
 pub mod uv_sphere;
 
 pub use compare::{
-    compare, read_image, relative_squared_error, srgb_decode, CompareError, DiffMetrics, ImageReadError,
+    block_means, compare, read_image, relative_squared_error, srgb_decode, CompareError, DiffMetrics, ImageReadError,
     REL_MSE_EPSILON,
 };
 pub use raybench::{load_mesh_list, load_raybench_mesh};
