@@ -23,7 +23,8 @@ pub struct DiffArgs {
     /// Print the figures as one JSON object: mse, rel_mse, max_abs_error,
     /// max_at ([x, y] or null), max_channel, nonfinite (pixels of A),
     /// nonfinite_reference, mean and mean_reference ([r, g, b] over the
-    /// pixels compared), width, height.
+    /// pixels compared), width, height; with --block also block and
+    /// block_rel_mse.
     #[arg(long)]
     pub json: bool,
     /// Also write a false-colour map of each pixel's relative squared error
@@ -72,7 +73,7 @@ pub fn run(args: &DiffArgs) -> Result<(), String> {
         .map(|n| compare(&block_means(&a, n), &block_means(&b, n)).expect("blocks of images of one size").rel_mse);
 
     if args.json {
-        let json = serde_json::json!({
+        let mut json = serde_json::json!({
             "mse": m.mse,
             "rel_mse": m.rel_mse,
             "max_abs_error": m.max_abs_error,
@@ -84,9 +85,13 @@ pub fn run(args: &DiffArgs) -> Result<(), String> {
             "mean_reference": m.mean_reference,
             "width": a.width(),
             "height": a.height(),
-            "block": args.block,
-            "block_rel_mse": block_rel_mse,
         });
+        // Only with --block (the JSON without it is what `lucent.diff`
+        // returns in Python).
+        if let (Some(n), Some(e)) = (args.block, block_rel_mse) {
+            json["block"] = n.into();
+            json["block_rel_mse"] = e.into();
+        }
         say!("{json}")?;
         return Ok(());
     }
