@@ -315,63 +315,29 @@ impl Integrator for PathIntegrator {
             if let Some(m) = medium {
                 // The segment up to the hit (or infinity) in a medium: it
                 // may scatter on the way, or pass with its transmittance.
+                // (Out of line: scenes without media never come here.)
                 let t_max = hit.as_ref().map_or(f32::INFINITY, |si| si.t);
-                let (u_channel, u_distance) = (sampler.get_1d(), sampler.get_1d());
-                let m = scene.medium(m);
-                match m.sample(t_max, beta, u_channel, u_distance) {
-                    MediumEvent::Pass { weight } => {
+                let at = PathVertexState { beta, eta_scale, depth, any_non_specular };
+                match self.medium_segment(scene, m, &ray, t_max, at, sampler, stats) {
+                    MediumStep::Pass(weight) => {
                         beta *= weight;
                         if beta.max_element() <= 0.0 || !beta.is_finite() {
                             break;
                         }
                     }
-                    MediumEvent::Scatter { t, weight, emission } => {
-                        if emission.max_element() > 0.0 {
-                            radiance += self.contribution(beta * emission, any_non_specular);
-                        }
-                        beta *= weight;
-                        if beta.max_element() <= 0.0 || !beta.is_finite() || depth >= self.max_depth {
-                            break;
-                        }
-                        let p = ray.at(t);
-                        let wo = -ray.dir;
-                        let phase = m.phase();
-                        let u_light = sampler.get_1d();
-                        let u_point = sampler.get_2d();
-                        if self.direct != DirectLighting::BsdfOnly {
-                            let vertex = Scatterer::Medium(p, phase);
-                            let direct = beta
-                                * self.sample_light(
-                                    scene,
-                                    vertex,
-                                    wo,
-                                    medium,
-                                    u_light,
-                                    u_point,
-                                    stats,
-                                    &mut interfaces,
-                                );
-                            radiance += self.contribution(direct, any_non_specular);
-                        }
-                        let _u_lobe = sampler.get_1d();
-                        let u_dir = sampler.get_2d();
-                        let u_rr = sampler.get_1d();
-                        // HG sampling is exact: f / pdf = 1.
-                        let (wi, pdf) = phase.sample(wo, u_dir);
+                    MediumStep::Stop(add) => {
+                        radiance += add;
+                        break;
+                    }
+                    MediumStep::Scatter(s) => {
+                        radiance += s.radiance;
+                        beta = s.beta;
                         specular_bounce = false;
                         indirect = any_non_specular;
                         any_non_specular = true;
-                        prev_pdf = pdf;
-                        prev_ctx = LightSampleContext { p, n: Vec3::ZERO };
-                        ray = Ray::new(p, wi);
-                        stats.secondary += 1;
-                        if depth + 1 >= RR_DEPTH {
-                            let survive = (beta * eta_scale).max_element().min(0.95);
-                            if u_rr >= survive {
-                                break;
-                            }
-                            beta /= survive;
-                        }
+                        prev_pdf = s.pdf;
+                        prev_ctx = LightSampleContext { p: s.ray.origin, n: Vec3::ZERO };
+                        ray = s.ray;
                         depth += 1;
                         continue;
                     }
@@ -438,9 +404,8 @@ impl Integrator for PathIntegrator {
             let u_light = sampler.get_1d();
             let u_point = sampler.get_2d();
             if !bsdf.is_specular() && self.direct != DirectLighting::BsdfOnly {
-                let vertex = Scatterer::Surface(&si, &bsdf);
                 let direct =
-                    beta * self.sample_light(scene, vertex, wo, medium, u_light, u_point, stats, &mut interfaces);
+                    beta * self.sample_light(scene, &si, &bsdf, wo, medium, u_light, u_point, stats, &mut interfaces);
                 // The light's last bounce is this vertex: indirect if an
                 // earlier one was non-specular.
                 radiance += self.contribution(direct, any_non_specular);
@@ -490,13 +455,59 @@ impl Integrator for PathIntegrator {
 }
 
 impl PathIntegrator {
-    /// One light sample at a surface or medium vertex, MIS-weighted
-    /// against sampling the BSDF (or phase function); the result still has
-    /// to be multiplied by the path throughput. `medium` is the medium the
-    /// path's ray was in (shadow rays from a surface start in the medium of
-    /// the side they leave to).
+    /// One light sample at `si`, MIS-weighted against BSDF sampling; the
+    /// result still has to be multiplied by the path throughput. `medium`
+    /// is the medium the path's ray was in (for scenes with media).
     #[allow(clippy::too_many_arguments)]
     fn sample_light(
+        &self,
+        scene: &Scene,
+        si: &SurfaceInteraction,
+        bsdf: &Bsdf,
+        wo: Vec3,
+        medium: Option<MediumId>,
+        u_light: f32,
+        u_point: crate::geometry::Vec2,
+        stats: &mut RayStats,
+        interfaces: &mut Option<bool>,
+    ) -> Color {
+        if scene.has_media() {
+            let vertex = Scatterer::Surface(si, bsdf);
+            return self.sample_light_in_media(scene, vertex, wo, medium, u_light, u_point, stats);
+        }
+        let lights = scene.light_set();
+        let Some((index, pmf)) = lights.sample(u_light) else { return Color::ZERO };
+        let emitter = &lights.emitters()[index];
+        let ctx = LightSampleContext { p: si.p, n: si.n };
+        let Some(ls) = emitter.sample_li(&ctx, u_point) else { return Color::ZERO };
+        if ls.pdf <= 0.0 || ls.l.max_element() <= 0.0 {
+            return Color::ZERO;
+        }
+        let f = bsdf.f(wo, ls.wi) * ls.wi.dot(bsdf.frame().z).abs();
+        if f.max_element() <= 0.0 {
+            return Color::ZERO;
+        }
+        stats.shadow += 1;
+        if occluded(scene, si, ls.p_light, ls.wi, interfaces) {
+            return Color::ZERO;
+        }
+        let p_light = pmf * ls.pdf;
+        if emitter.is_delta() || self.direct == DirectLighting::LightsOnly {
+            f * ls.l / p_light
+        } else {
+            let w = power_heuristic(p_light, bsdf.pdf(wo, ls.wi));
+            f * ls.l * (w / p_light)
+        }
+    }
+
+    /// [`PathIntegrator::sample_light`] in a scene with media, at a surface
+    /// or medium vertex: the shadow ray carries the transmittance of the
+    /// media it crosses ([`shadow_transmittance`]). `medium` is the medium
+    /// the path's ray was in (a shadow ray from a surface boundary starts
+    /// in the medium of the side it leaves to).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    fn sample_light_in_media(
         &self,
         scene: &Scene,
         vertex: Scatterer<'_>,
@@ -505,7 +516,6 @@ impl PathIntegrator {
         u_light: f32,
         u_point: crate::geometry::Vec2,
         stats: &mut RayStats,
-        interfaces: &mut Option<bool>,
     ) -> Color {
         let lights = scene.light_set();
         let Some((index, pmf)) = lights.sample(u_light) else { return Color::ZERO };
@@ -518,37 +528,32 @@ impl PathIntegrator {
         if ls.pdf <= 0.0 || ls.l.max_element() <= 0.0 {
             return Color::ZERO;
         }
-        let f = match vertex {
-            Scatterer::Surface(_, bsdf) => bsdf.f(wo, ls.wi) * ls.wi.dot(bsdf.frame().z).abs(),
-            Scatterer::Medium(_, phase) => Color::splat(phase.p(wo, ls.wi)),
+        let (f, p_scatter) = match vertex {
+            Scatterer::Surface(_, bsdf) => (bsdf.f(wo, ls.wi) * ls.wi.dot(bsdf.frame().z).abs(), bsdf.pdf(wo, ls.wi)),
+            Scatterer::Medium(_, phase) => {
+                let p = phase.p(wo, ls.wi);
+                (Color::splat(p), p)
+            }
         };
         if f.max_element() <= 0.0 {
             return Color::ZERO;
         }
         stats.shadow += 1;
-        let tr = match vertex {
-            Scatterer::Surface(si, _) if !scene.has_media() => {
-                if occluded(scene, si, ls.p_light, ls.wi, interfaces) {
-                    return Color::ZERO;
-                }
-                Color::ONE
-            }
+        let (ray, t_max, start) = match vertex {
             Scatterer::Surface(si, _) => {
                 let start = if si.media.is_transition() { si.media.medium_along(ls.wi, si.n) } else { medium };
                 let (ray, t_max) = match ls.p_light {
                     Some(p) => si.spawn_ray_to(p),
                     None => (si.spawn_ray(ls.wi), f32::INFINITY),
                 };
-                shadow_transmittance(scene, ray, t_max, ls.p_light, start)
+                (ray, t_max, start)
             }
-            Scatterer::Medium(p, _) => {
-                let (ray, t_max) = match ls.p_light {
-                    Some(target) => (Ray::new(p, target - p), 1.0 - crate::interaction::SHADOW_EPSILON),
-                    None => (Ray::new(p, ls.wi), f32::INFINITY),
-                };
-                shadow_transmittance(scene, ray, t_max, ls.p_light, medium)
-            }
+            Scatterer::Medium(p, _) => match ls.p_light {
+                Some(target) => (Ray::new(p, target - p), 1.0 - crate::interaction::SHADOW_EPSILON, medium),
+                None => (Ray::new(p, ls.wi), f32::INFINITY, medium),
+            },
         };
+        let tr = shadow_transmittance(scene, ray, t_max, ls.p_light, start);
         if tr.max_element() <= 0.0 {
             return Color::ZERO;
         }
@@ -556,12 +561,102 @@ impl PathIntegrator {
         if emitter.is_delta() || self.direct == DirectLighting::LightsOnly {
             f * tr * ls.l / p_light
         } else {
-            let p_scatter = match vertex {
-                Scatterer::Surface(_, bsdf) => bsdf.pdf(wo, ls.wi),
-                Scatterer::Medium(_, phase) => phase.p(wo, ls.wi),
-            };
             let w = power_heuristic(p_light, p_scatter);
             f * tr * ls.l * (w / p_light)
         }
     }
+
+    /// A ray segment `[0, t_max)` in `medium`: whether and where the path
+    /// scatters, and at a scattering point, the light sampled there (next-
+    /// event estimation with the phase function) and the direction the
+    /// phase function continues in (see the type's docs). Out of line: only
+    /// scenes with media call it.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    fn medium_segment(
+        &self,
+        scene: &Scene,
+        medium: MediumId,
+        ray: &Ray,
+        t_max: f32,
+        at: PathVertexState,
+        sampler: &mut Sampler,
+        stats: &mut RayStats,
+    ) -> MediumStep {
+        let PathVertexState { beta, eta_scale, depth, any_non_specular } = at;
+        let (u_channel, u_distance) = (sampler.get_1d(), sampler.get_1d());
+        let m = scene.medium(medium);
+        let (t, weight, emission) = match m.sample(t_max, beta, u_channel, u_distance) {
+            MediumEvent::Pass { weight } => return MediumStep::Pass(weight),
+            MediumEvent::Scatter { t, weight, emission } => (t, weight, emission),
+        };
+        // Emission along the segment: direct light (after a non-specular
+        // vertex, indirect).
+        let mut radiance = Color::ZERO;
+        if emission.max_element() > 0.0 {
+            radiance += self.contribution(beta * emission, any_non_specular);
+        }
+        let mut beta = beta * weight;
+        if beta.max_element() <= 0.0 || !beta.is_finite() || depth >= self.max_depth {
+            return MediumStep::Stop(radiance);
+        }
+        let p = ray.at(t);
+        let wo = -ray.dir;
+        let phase = m.phase();
+        // The same five dimensions per vertex as at a surface.
+        let u_light = sampler.get_1d();
+        let u_point = sampler.get_2d();
+        if self.direct != DirectLighting::BsdfOnly {
+            let vertex = Scatterer::Medium(p, phase);
+            let direct = beta * self.sample_light_in_media(scene, vertex, wo, Some(medium), u_light, u_point, stats);
+            radiance += self.contribution(direct, any_non_specular);
+        }
+        let _u_lobe = sampler.get_1d();
+        let u_dir = sampler.get_2d();
+        let u_rr = sampler.get_1d();
+        // Henyey–Greenstein sampling is exact: f / pdf = 1.
+        let (wi, pdf) = phase.sample(wo, u_dir);
+        stats.secondary += 1;
+        if depth + 1 >= RR_DEPTH {
+            let survive = (beta * eta_scale).max_element().min(0.95);
+            if u_rr >= survive {
+                return MediumStep::Stop(radiance);
+            }
+            beta /= survive;
+        }
+        MediumStep::Scatter(MediumScatter { radiance, beta, ray: Ray::new(p, wi), pdf })
+    }
+}
+
+/// What [`PathIntegrator::medium_segment`] needs of the path.
+#[derive(Clone, Copy)]
+struct PathVertexState {
+    beta: Color,
+    eta_scale: f32,
+    depth: u32,
+    any_non_specular: bool,
+}
+
+/// The outcome of a ray segment in a medium.
+enum MediumStep {
+    /// The ray reaches the surface (or leaves the scene): multiply the
+    /// throughput by this.
+    Pass(Color),
+    /// The path ends here, after adding this radiance.
+    Stop(Color),
+    /// The path scattered and goes on.
+    Scatter(MediumScatter),
+}
+
+/// A scattering event in a medium: what it added and how the path goes on.
+struct MediumScatter {
+    /// Radiance found here (emission and next-event estimation).
+    radiance: Color,
+    /// The new throughput.
+    beta: Color,
+    /// The ray the phase function continues along (from the scattering
+    /// point).
+    ray: Ray,
+    /// The phase function's pdf of its direction (for MIS at the next hit).
+    pdf: f32,
 }
