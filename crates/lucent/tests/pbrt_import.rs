@@ -302,6 +302,12 @@ fn errors_have_file_line_and_column() {
     assert!(e.contains("radius") && e.contains("positive"), "{e}");
     let e = import_err("WorldBegin\nLightSource \"infinite\" \"string filename\" \"sky.exr\"\n");
     assert!(e.contains("sky.exr") && e.contains("--env"), "{e}");
+    // An empty file, or one cut short before its world, is an error (as in
+    // pbrt-v4), not a black image.
+    for text in ["", "# nothing here\n", "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n"] {
+        let e = import_err(text);
+        assert!(e.contains("scene.pbrt:1:1") && e.contains("ends before \"WorldBegin\""), "{e}");
+    }
 }
 
 #[test]

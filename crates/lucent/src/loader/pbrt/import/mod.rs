@@ -543,10 +543,12 @@ impl<'a> Importer<'a> {
             return Err(PbrtError::at(loc, "this AttributeBegin is never closed (AttributeEnd missing)"));
         }
         if !self.in_world {
-            // pbrt-v4 needs WorldBegin; an empty world renders black.
-            let mut render = std::mem::take(&mut self.render);
-            render.apply(&mut self, &end)?;
-            self.render = render;
+            // pbrt-v4 stops with "End of files before WorldBegin": a file
+            // without a world is truncated or not a scene.
+            return Err(PbrtError::at(
+                &end,
+                "the file ends before \"WorldBegin\": a pbrt-v4 scene gives its camera and film, then WorldBegin, then its lights and shapes (is the file empty or cut short?)",
+            ));
         }
         let settings: RenderSettings = self.render.settings.clone().unwrap_or_default();
         if let Some((name, loc)) = self.camera_medium.take() {
