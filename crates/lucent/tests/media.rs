@@ -160,6 +160,20 @@ fn media_errors_and_warnings() {
     // even when the medium is defined after it.
     let s = import("MediumInterface \"\" \"fog\"\nCamera \"perspective\"\nMakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\nWorldBegin\n").unwrap();
     assert_eq!(s.scene.camera_medium(), Some(lucent::medium::MediumId::new(0)));
+    // `Attribute "medium"` gives defaults to the media that follow.
+    let s = import(
+        "WorldBegin\nAttribute \"medium\" \"float scale\" 3\nMakeNamedMedium \"m\" \"string type\" \"homogeneous\"\n",
+    )
+    .unwrap();
+    let lucent::medium::Medium::Homogeneous(m) = &s.scene.media()[0];
+    assert_eq!(m.sigma_a(), Color::splat(3.0));
+    // pbrt-v4's "path" integrator ignores media; lucent says it renders them.
+    let s = import("Integrator \"path\"\nWorldBegin\nMakeNamedMedium \"m\" \"string type\" \"homogeneous\"\n").unwrap();
+    assert!(
+        s.scene.warnings().iter().any(|w| w.contains("pbrt-v4's \"path\" ignores media")),
+        "{:?}",
+        s.scene.warnings()
+    );
     // AttributeEnd restores the interface.
     let s = import("WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\nAttributeBegin\nMediumInterface \"fog\" \"\"\nAttributeEnd\nShape \"sphere\"\n").unwrap();
     assert!(!s.scene.primitives()[0].media().is_transition());
@@ -225,7 +239,7 @@ fn media_convert_to_the_same_image() {
     let out = dir.path().join("converted.toml");
     lucent::loader::export_scene(&a, &out).unwrap();
     let written = std::fs::read_to_string(&out).unwrap();
-    assert!(written.contains("[media.medium_1.homogeneous]") && written.contains("medium_inside"), "{written}");
+    assert!(written.contains("[media.medium-1.homogeneous]") && written.contains("medium_inside"), "{written}");
     let b = lucent::loader::load_scene(&out).unwrap_or_else(|e| panic!("{e}\n{written}"));
     assert_eq!(a.scene.media(), b.scene.media());
     assert_eq!(a.scene.camera_medium(), b.scene.camera_medium());

@@ -378,13 +378,22 @@ fn reverse_orientation_turns_every_shape_inside_out() {
     assert_eq!(normals_at(&import(&scene("", QUAD)), down.0, down.1).0, Vec3::Z);
     let (n, ns) = normals_at(&import(&scene("", &format!("ReverseOrientation\n{QUAD}"))), down.0, down.1);
     assert_eq!((n, ns), (-Vec3::Z, -Vec3::Z));
-    // Quadrics: a sphere's normal points inwards, also under a mirror.
+    // Quadrics: a reversed sphere's normal points inwards; so does a
+    // mirrored one's (pbrt-v4: flipNormal = ReverseOrientation ^
+    // transformSwapsHandedness), and both together point outwards again.
     let towards = (Vec3::new(0.0, 0.0, 5.0), -Vec3::Z);
     assert!(close(normals_at(&import(&scene("", "Shape \"sphere\"")), towards.0, towards.1).0, Vec3::Z));
-    for world in ["ReverseOrientation\nShape \"sphere\"", "ReverseOrientation\nScale -1 1 1\nShape \"sphere\""] {
+    for (world, want) in [
+        ("ReverseOrientation\nShape \"sphere\"", -Vec3::Z),
+        ("Scale -1 1 1\nShape \"sphere\"", -Vec3::Z),
+        ("ReverseOrientation\nScale -1 1 1\nShape \"sphere\"", Vec3::Z),
+    ] {
         let (n, ns) = normals_at(&import(&scene("", world)), towards.0, towards.1);
-        assert!(close(n, -Vec3::Z) && close(ns, -Vec3::Z), "{world}: {n} {ns}");
+        assert!(close(n, want) && close(ns, want), "{world}: {n} {ns}");
     }
+    // A mirrored sphere light emits inwards, as in pbrt-v4.
+    let s = import(&scene("", "Scale -1 1 1\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\nShape \"sphere\""));
+    assert!(s.scene.area_lights()[0].reverse);
     // The flag is part of the graphics state: AttributeEnd restores it.
     let s = import(&scene("", "AttributeBegin\nReverseOrientation\nAttributeEnd\nShape \"sphere\""));
     assert!(!s.scene.primitives()[0].reverse_orientation());

@@ -330,6 +330,9 @@ impl Integrator for PathIntegrator {
                         break;
                     }
                     MediumStep::Scatter(s) => {
+                        // A scattering point is a vertex: interfaces are
+                        // counted again from here.
+                        skips = 0;
                         radiance += s.radiance;
                         beta = s.beta;
                         specular_bounce = false;

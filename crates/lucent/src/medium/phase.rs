@@ -28,11 +28,17 @@ pub struct HenyeyGreenstein {
 /// `|g|` is clamped to this: at ±1 the phase function is a delta.
 const MAX_G: f32 = 0.99;
 
+/// Below this `|g|`, the inverse CDF loses precision and `g` is taken as 0.
+const SMALL_G: f32 = 1e-3;
+
 impl HenyeyGreenstein {
     /// The phase function with asymmetry `g`, clamped to `[−0.99, 0.99]`
-    /// (pbrt-v4 clamps the same way); `g` must be finite.
+    /// (pbrt-v4 clamps the same way); `g` must be finite. A `|g|` below
+    /// 10⁻³ is taken as 0, where sampling is uniform: the value and the
+    /// pdf then stay exactly equal.
     pub fn new(g: f32) -> Self {
-        Self { g: g.clamp(-MAX_G, MAX_G) }
+        let g = g.clamp(-MAX_G, MAX_G);
+        Self { g: if g.abs() < SMALL_G { 0.0 } else { g } }
     }
 
     /// The asymmetry parameter.
@@ -57,7 +63,7 @@ impl HenyeyGreenstein {
     pub fn sample(&self, wo: Vec3, u: Vec2) -> (Vec3, f32) {
         let g = self.g;
         // cos θ between −wo (forward) and wi.
-        let cos_theta = if g.abs() < 1e-3 {
+        let cos_theta = if g == 0.0 {
             1.0 - 2.0 * u.x
         } else {
             let s = (1.0 - g * g) / (1.0 + g - 2.0 * g * u.x);

@@ -148,7 +148,12 @@ pub(crate) fn describe(
             environment: None,
             ambient: None,
             materials: BTreeMap::new(),
-            media: scene.media().iter().enumerate().map(|(i, m)| (medium_name(i), medium(m))).collect(),
+            media: scene
+                .media()
+                .iter()
+                .enumerate()
+                .map(|(i, m)| (medium_name(i, scene.media().len()), medium(m)))
+                .collect(),
             point_light: Vec::new(),
             spot_light: Vec::new(),
             directional_light: Vec::new(),
@@ -211,16 +216,18 @@ struct Describer {
     d: SceneDescription,
 }
 
-/// Names `material-0`… zero-padded to one width, so that the file's
-/// (sorted) order is the scene's and every material keeps its index.
-/// The name under `[media]` of the scene's medium `i`.
-fn medium_name(i: usize) -> String {
-    format!("medium_{}", i + 1)
+/// The name under `[media]` of medium `i` of `n`: `medium-1`…,
+/// zero-padded to one width, so that the file's (sorted) order is the
+/// scene's and every medium keeps its index.
+fn medium_name(i: usize, n: usize) -> String {
+    let width = n.to_string().len();
+    format!("medium-{:0width$}", i + 1)
 }
 
-/// The `medium_inside` and `medium_outside` keys of a surface.
-fn medium_names(media: MediumInterface) -> (Option<String>, Option<String>) {
-    let name = |m: Option<crate::medium::MediumId>| m.map(|m| medium_name(m.index()));
+/// The `medium_inside` and `medium_outside` keys of a surface of a scene
+/// with `n` media.
+fn medium_names(media: MediumInterface, n: usize) -> (Option<String>, Option<String>) {
+    let name = |m: Option<crate::medium::MediumId>| m.map(|m| medium_name(m.index(), n));
     (name(media.inside), name(media.outside))
 }
 
@@ -238,6 +245,8 @@ fn medium(m: &Medium) -> MediumDesc {
     }
 }
 
+/// Names `material-0`… zero-padded to one width, so that the file's
+/// (sorted) order is the scene's and every material keeps its index.
 fn material_names(n: usize) -> Vec<String> {
     let width = n.saturating_sub(1).to_string().len();
     (0..n).map(|i| format!("material-{i:0width$}")).collect()
@@ -283,7 +292,7 @@ fn camera(scene: &Scene) -> CameraDesc {
         screen_window: None,
         frame_aspect_ratio: None,
         mapping: None,
-        medium: scene.camera_medium().map(|m| medium_name(m.index())),
+        medium: scene.camera_medium().map(|m| medium_name(m.index(), scene.media().len())),
     };
     let window = |w: Option<[f32; 4]>| w.map(|w| w.map(Finite));
     match projection {
@@ -496,7 +505,7 @@ impl Describer {
         let transform = transform_ops(&p.transform());
         let EmissionKeys { emission, two_sided, reverse_orientation, emission_texture } = self.emission(scene, p, 0)?;
         let alpha = p.alpha().map(|a| self.textures.float(a)).transpose()?;
-        let (medium_inside, medium_outside) = medium_names(p.media());
+        let (medium_inside, medium_outside) = medium_names(p.media(), scene.media().len());
         match p.shape() {
             Shape::Sphere(s) => {
                 let (center, z_min, z_max, phi_max) = match s.clipping() {
@@ -632,7 +641,7 @@ impl Describer {
         let data = mesh.to_triangle_mesh();
         let transform = transform_ops(&p.transform());
         let alpha = p.alpha().map(|a| self.textures.float(a)).transpose()?;
-        let (medium_inside, medium_outside) = medium_names(p.media());
+        let (medium_inside, medium_outside) = medium_names(p.media(), scene.media().len());
         for (face, tri) in data.indices.iter().enumerate() {
             let face = face as u32;
             let vertices = tri.map(|i| data.positions[i as usize]);

@@ -408,6 +408,7 @@ impl<'a> Importer<'a> {
                 self.check_unused(&params, &format!("AreaLightSource \"{ty}\""))?;
             }
             Directive::MakeNamedMedium(name, params) => {
+                let params = self.with_attributes("medium", params);
                 self.make_named_medium(&name, &params, loc)?;
                 self.check_unused(&params, &format!("MakeNamedMedium \"{name}\""))?;
             }
@@ -551,6 +552,15 @@ impl<'a> Importer<'a> {
             ));
         }
         let settings: RenderSettings = self.render.settings.clone().unwrap_or_default();
+        if let Some((ty, _, loc)) = &self.render.integrator {
+            if ty == "path" && self.media.values().any(Option::is_some) {
+                let loc = loc.clone();
+                self.warnings.warn(
+                    &loc,
+                    "Integrator \"path\" with participating media: pbrt-v4's \"path\" ignores media (\"volpath\" renders them); lucent renders them",
+                )?;
+            }
+        }
         if let Some((name, loc)) = self.camera_medium.take() {
             let id = self.medium_named(&name, &loc)?;
             self.builder.set_camera_medium(id).map_err(|e| builder_error(&loc, e))?;

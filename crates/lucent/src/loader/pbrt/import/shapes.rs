@@ -155,7 +155,12 @@ impl Importer<'_> {
         };
         // Meshes are oriented face by face above, as if not reversed; every
         // shape then emits from its front (normal side), or from its back
-        // under ReverseOrientation.
+        // under ReverseOrientation. A quadric's normal is also turned by a
+        // transform that mirrors (pbrt-v4's flipNormal = ReverseOrientation
+        // ^ transformSwapsHandedness); a triangle's is not, since its
+        // winding turns too.
+        let mirrored = transform.matrix().determinant() < 0.0;
+        let reverse = reverse ^ (mirrored && !matches!(shape, Shape::Mesh(_)));
         let emission = area.as_ref().map(|a| Emission {
             radiance: a.radiance,
             two_sided: a.two_sided,
