@@ -5,6 +5,7 @@
 
 pub mod compare;
 pub mod raybench;
+pub mod readers;
 pub mod sky;
 pub mod uv_sphere;
 

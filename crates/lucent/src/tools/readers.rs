@@ -1,0 +1,132 @@
+//! Every reader of a file format, fed bytes as the program feeds it a
+//! file: the entry points of the coverage-guided fuzz targets (`fuzz/`,
+//! `cargo fuzz run NAME`) and of the test that replays their corpora and
+//! every input that ever crashed (`fuzz/regressions/`) on stable Rust.
+//!
+//! A reader may accept or refuse its input; it must never panic, hang or
+//! allocate without bound. A scene that loads is also rendered, as the
+//! command line would with `--width 8 --height 8 --spp 1 --max-depth 8`,
+//! and must give finite pixels.
+
+use crate::film::{load_checkpoint, PartialFilm};
+use crate::loader::pbrt::parse_str;
+use crate::loader::{SceneOverrides, SceneSource};
+use crate::render::{render, RenderOptions};
+use std::path::{Path, PathBuf};
+
+/// A reader under test.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reader {
+    /// PLY meshes, ASCII and binary ([`crate::mesh::parse_ply`]).
+    Ply,
+    /// Wavefront OBJ meshes ([`crate::mesh::parse_obj`]).
+    Obj,
+    /// pbrt-v4 scene text, parsed only ([`parse_str`]).
+    PbrtParse,
+    /// A pbrt-v4 scene file imported and rendered ([`import_pbrt`]).
+    PbrtImport,
+    /// A TOML scene, built and rendered ([`parse_scene`]).
+    SceneToml,
+    /// A JSON scene, built and rendered.
+    SceneJson,
+    /// PFM images ([`crate::texture::read_pfm`]).
+    Pfm,
+    /// Any image a texture or environment map may be
+    /// ([`crate::texture::read_image`]).
+    Image,
+    /// lucent's partial renders, `.lpart` ([`PartialFilm::from_bytes`]).
+    Lpart,
+    /// lucent's checkpoints, `.ckpt` ([`load_checkpoint`]).
+    Checkpoint,
+}
+
+impl Reader {
+    /// Every reader.
+    pub const ALL: [Reader; 10] = [
+        Reader::Ply,
+        Reader::Obj,
+        Reader::PbrtParse,
+        Reader::PbrtImport,
+        Reader::SceneToml,
+        Reader::SceneJson,
+        Reader::Pfm,
+        Reader::Image,
+        Reader::Lpart,
+        Reader::Checkpoint,
+    ];
+
+    /// The fuzz target's name (and its folders under `fuzz/`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Reader::Ply => "ply",
+            Reader::Obj => "obj",
+            Reader::PbrtParse => "pbrt_parse",
+            Reader::PbrtImport => "pbrt_import",
+            Reader::SceneToml => "scene_toml",
+            Reader::SceneJson => "scene_json",
+            Reader::Pfm => "pfm",
+            Reader::Image => "image",
+            Reader::Lpart => "lpart",
+            Reader::Checkpoint => "checkpoint",
+        }
+    }
+
+    /// Feed `data` to the reader. Returns whether it accepted the input;
+    /// panics only where lucent has a defect (a panic inside a reader, or a
+    /// scene that loads but renders NaN or infinite pixels).
+    pub fn feed(self, data: &[u8]) -> bool {
+        match self {
+            Reader::Ply => crate::mesh::parse_ply(data, Path::new("fuzz.ply")).is_ok(),
+            Reader::Obj => crate::mesh::parse_obj(data, Path::new("fuzz.obj")).is_ok(),
+            Reader::PbrtParse => match std::str::from_utf8(data) {
+                Ok(text) => parse_str(text, Path::new("fuzz.pbrt"), &mut |_, _| Ok(())).is_ok(),
+                Err(_) => false,
+            },
+            Reader::PbrtImport => open_and_render("scene.pbrt", data),
+            Reader::SceneToml => open_and_render("scene.toml", data),
+            Reader::SceneJson => open_and_render("scene.json", data),
+            Reader::Pfm => crate::texture::read_pfm(Path::new("fuzz.pfm"), data).is_ok(),
+            Reader::Image => {
+                // Named .tga: TGA, the one format without magic bytes, is
+                // known by its extension; the others by their contents.
+                let path = scratch_file("image.tga", data);
+                crate::texture::read_image(&path, crate::texture::ColorEncoding::Srgb).is_ok()
+            }
+            Reader::Lpart => PartialFilm::from_bytes(data, "fuzz.lpart").is_ok(),
+            Reader::Checkpoint => {
+                let path = scratch_file("render.ckpt", data);
+                // The fingerprint and size of the render asking for it:
+                // those the file claims, so that the fuzzer gets past the
+                // check to the pixel data (a real render compares its own).
+                let word = |i: usize| data.get(i..i + 4).map_or(8, |b| u32::from_le_bytes(b.try_into().unwrap()));
+                let fingerprint = data.get(24..32).map_or(0, |b| u64::from_le_bytes(b.try_into().unwrap()));
+                load_checkpoint(&path, fingerprint, word(12), word(16)).is_ok()
+            }
+        }
+    }
+}
+
+/// Write `data` to a file of this process and thread (readers that take a
+/// path: an include or a texture then resolves next to it).
+fn scratch_file(name: &str, data: &[u8]) -> PathBuf {
+    let thread = format!("{:?}", std::thread::current().id()).replace(|c: char| !c.is_ascii_alphanumeric(), "");
+    let dir = std::env::temp_dir().join(format!("lucent-readers-{}-{thread}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a scratch folder in the temporary directory");
+    let path = dir.join(name);
+    std::fs::write(&path, data).expect("a scratch file in the temporary directory");
+    path
+}
+
+/// Open a scene file as the command line does (with a small image), and
+/// if it loads, render it and check its pixels.
+fn open_and_render(name: &str, data: &[u8]) -> bool {
+    let path = scratch_file(name, data);
+    let overrides =
+        SceneOverrides { width: Some(8), height: Some(8), spp: Some(1), max_depth: Some(8), ..Default::default() };
+    let Ok(source) = SceneSource::open(&path, &overrides) else { return false };
+    let options = RenderOptions { threads: Some(1), ..RenderOptions::default() };
+    if let Ok(out) = render(&source.loaded.scene, &source.loaded.settings, options) {
+        assert!(out.film.pixels().iter().all(|p| p.is_finite()), "a scene that loads rendered a non-finite pixel");
+    }
+    true
+}
