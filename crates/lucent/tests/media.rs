@@ -48,6 +48,14 @@ fn an_absorbing_medium_attenuates_by_beer_lambert() {
         let want = (-2.0 * sigma[c]).exp();
         assert!((m[c] - want).abs() <= 1e-5 * want, "channel {c}: {} vs {want}", m[c]);
     }
+    // A shape may name a medium defined further on (pbrt-v4 resolves names
+    // after reading the whole file): the same image.
+    let text = inside_sphere("\"rgb sigma_a\" [0.5 1 2] \"rgb sigma_s\" [0 0 0]", 1);
+    let (head, medium) = text.split_once("MakeNamedMedium").unwrap();
+    let (medium, tail) = medium.split_once('\n').unwrap();
+    let later = format!("{head}{tail}MakeNamedMedium{medium}\n");
+    assert!(later.find("MakeNamedMedium").unwrap() > later.find("Shape").unwrap(), "{later}");
+    assert_eq!(mean(&later), m);
     // `scale` multiplies both coefficients.
     let m = mean(&inside_sphere("\"rgb sigma_a\" [0.25 0.5 1] \"rgb sigma_s\" [0 0 0] \"float scale\" 2", 1));
     assert!((m.z - (-4.0f32).exp()).abs() < 1e-6, "{m}");

@@ -202,6 +202,15 @@ impl SceneBuilder {
         Ok(MediumId::new(self.media.len() - 1))
     }
 
+    /// Replace the medium `id` (added before with
+    /// [`SceneBuilder::add_medium`]): for a format that may name a medium
+    /// before it defines it, as pbrt-v4's does.
+    pub fn set_medium(&mut self, id: MediumId, medium: Medium) -> Result<&mut Self, SceneError> {
+        self.check_medium_id(id)?;
+        self.media[id.index()] = medium;
+        Ok(self)
+    }
+
     /// The medium the camera is in (default: none, vacuum): where camera
     /// rays start.
     pub fn set_camera_medium(&mut self, medium: Option<MediumId>) -> Result<&mut Self, SceneError> {

@@ -7,7 +7,8 @@
 //! `CameraMedium`). Homogeneous media are rendered
 //! ([`crate::medium::HomogeneousMedium`]); grid media (`uniformgrid`,
 //! `rgbgrid`, `cloud`, `nanovdb`) are skipped with a warning and render as
-//! vacuum.
+//! vacuum. As in pbrt-v4, which resolves names after the whole file is
+//! read, a shape may name a medium defined further on.
 
 use super::spectra::{param_loc, SpectrumUse};
 use super::Importer;
@@ -21,10 +22,16 @@ impl Importer<'_> {
         let ty = params.string("type")?.ok_or_else(|| {
             PbrtError::at(loc, format!("MakeNamedMedium \"{name}\" needs a \"string type\" parameter"))
         })?;
+        // A medium a shape named before: its handle is already taken.
+        let reserved = self.pending_media.remove(name).and_then(|_| self.media.get(name).copied().flatten());
         let id = match ty {
             "homogeneous" => {
-                let medium = self.homogeneous(name, params, loc)?;
-                Some(self.builder.add_medium(Medium::Homogeneous(medium)).map_err(|e| super::builder_error(loc, e))?)
+                let medium = Medium::Homogeneous(self.homogeneous(name, params, loc)?);
+                let id = match reserved {
+                    Some(id) => self.builder.set_medium(id, medium).map(|_| id),
+                    None => self.builder.add_medium(medium),
+                };
+                Some(id.map_err(|e| super::builder_error(loc, e))?)
             }
             "uniformgrid" | "rgbgrid" | "cloud" | "nanovdb" => {
                 for p in &params.params {
@@ -34,7 +41,8 @@ impl Importer<'_> {
                     loc,
                     format!("MakeNamedMedium \"{name}\": \"{ty}\" media are not supported: rendered as vacuum (supported: homogeneous)"),
                 )?;
-                None
+                // A reserved handle stays vacuum.
+                reserved
             }
             other => {
                 return Err(PbrtError::at(
@@ -43,7 +51,7 @@ impl Importer<'_> {
                 ))
             }
         };
-        if self.media.insert(name.to_owned(), id).is_some() {
+        if self.media.insert(name.to_owned(), id).is_some() && reserved.is_none() {
             self.warnings.warn(loc, format!("named medium \"{name}\" redefined"))?;
         }
         Ok(())
@@ -95,10 +103,27 @@ impl Importer<'_> {
         })
     }
 
-    /// The media of the current `MediumInterface`, for a shape.
-    pub fn current_media(&self, loc: &Loc) -> Result<MediumInterface, PbrtError> {
-        let inside = self.medium_named(&self.state.medium_inside, loc)?;
-        let outside = self.medium_named(&self.state.medium_outside, loc)?;
-        Ok(MediumInterface::new(inside, outside))
+    /// The media of the current `MediumInterface`, for a shape. A name not
+    /// defined yet gets a handle that holds vacuum until its
+    /// `MakeNamedMedium` (an error at the end if none comes).
+    pub fn current_media(&mut self, loc: &Loc) -> Result<MediumInterface, PbrtError> {
+        let inside = self.state.medium_inside.clone();
+        let outside = self.state.medium_outside.clone();
+        Ok(MediumInterface::new(self.medium_for_shape(&inside, loc)?, self.medium_for_shape(&outside, loc)?))
+    }
+
+    fn medium_for_shape(&mut self, name: &str, loc: &Loc) -> Result<Option<MediumId>, PbrtError> {
+        if name.is_empty() {
+            return Ok(None);
+        }
+        if let Some(&id) = self.media.get(name) {
+            return Ok(id);
+        }
+        let vacuum = HomogeneousMedium::new(Color::ZERO, Color::ZERO, 1.0, 0.0, Color::ZERO)
+            .expect("zero coefficients are a valid medium");
+        let id = self.builder.add_medium(Medium::Homogeneous(vacuum)).map_err(|e| super::builder_error(loc, e))?;
+        self.media.insert(name.to_owned(), Some(id));
+        self.pending_media.insert(name.to_owned(), loc.clone());
+        Ok(Some(id))
     }
 }

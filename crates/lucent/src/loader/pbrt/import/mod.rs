@@ -151,6 +151,9 @@ pub(crate) struct Importer<'a> {
     /// The name of the medium the camera is in, and where the camera was
     /// given (resolved at the end: the medium may be defined after it).
     camera_medium: Option<(String, Loc)>,
+    /// Media named by shapes before their `MakeNamedMedium`, with where
+    /// each was first named: their handles hold vacuum until it comes.
+    pub pending_media: HashMap<String, Loc>,
 }
 
 /// Most attribute scopes open at once.
@@ -185,6 +188,7 @@ impl<'a> Importer<'a> {
             images: crate::texture::ImageCache::new(),
             media: HashMap::new(),
             camera_medium: None,
+            pending_media: HashMap::new(),
         }
     }
 
@@ -560,6 +564,12 @@ impl<'a> Importer<'a> {
                     "Integrator \"path\" with participating media: pbrt-v4's \"path\" ignores media (\"volpath\" renders them); lucent renders them",
                 )?;
             }
+        }
+        if let Some((name, loc)) = self.pending_media.iter().min_by_key(|(_, l)| (l.line, l.column)) {
+            return Err(PbrtError::at(
+                loc,
+                format!("medium \"{name}\" is not defined (the file has no MakeNamedMedium \"{name}\")"),
+            ));
         }
         if let Some((name, loc)) = self.camera_medium.take() {
             let id = self.medium_named(&name, &loc)?;
