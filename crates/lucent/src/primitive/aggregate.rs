@@ -259,7 +259,9 @@ impl Aggregate for BvhAggregate {
         if self.bvh.nodes().len() > 1 {
             // SAFETY: each build runs only where `isa` found its features.
             match isa() {
+                // SAFETY: `isa` detected the x86-64-v3 features and AVX-512 F, VL, BW, DQ here.
                 Isa::Avx512 => return unsafe { self.intersect_avx512(ray, t_max) },
+                // SAFETY: `isa` detected the x86-64-v3 features (AVX2, FMA, BMI1/2, LZCNT, POPCNT) here.
                 Isa::Avx2 => return unsafe { self.intersect_avx2(ray, t_max) },
                 Isa::Portable => {}
             }
@@ -276,7 +278,9 @@ impl Aggregate for BvhAggregate {
         if self.bvh.nodes().len() > 1 {
             // SAFETY: each build runs only where `isa` found its features.
             match isa() {
+                // SAFETY: `isa` detected the x86-64-v3 features and AVX-512 F, VL, BW, DQ here.
                 Isa::Avx512 => return unsafe { self.intersect_p_avx512(ray, t_max) },
+                // SAFETY: `isa` detected the x86-64-v3 features (AVX2, FMA, BMI1/2, LZCNT, POPCNT) here.
                 Isa::Avx2 => return unsafe { self.intersect_p_avx2(ray, t_max) },
                 Isa::Portable => {}
             }
