@@ -8,7 +8,7 @@
 mod path;
 mod whitted;
 
-pub use path::{power_heuristic, DirectLighting, PathIntegrator, RR_DEPTH};
+pub use path::{power_heuristic, DirectLighting, PathIntegrator, PATH_LANES, RR_DEPTH};
 pub use whitted::WhittedIntegrator;
 
 use crate::color::Color;
@@ -49,4 +49,26 @@ pub trait Integrator: Sync {
     /// with its film and lens dimensions consumed; `stats` counts the rays
     /// traced.
     fn li(&self, scene: &Scene, ray: &Ray, sampler: &mut Sampler, stats: &mut RayStats) -> Color;
+
+    /// [`Integrator::li`] for many camera rays at once: `radiance[i]` is the
+    /// radiance along `rays[i]`, with `samplers[i]` positioned at its pixel
+    /// sample. The result for each ray is the same as [`Integrator::li`]'s,
+    /// bit for bit; an integrator that traces paths together (the
+    /// [`PathIntegrator`]) overrides it, the default traces them one by one.
+    ///
+    /// # Panics
+    /// If the three slices differ in length.
+    fn li_lanes(
+        &self,
+        scene: &Scene,
+        rays: &[Ray],
+        samplers: &mut [Sampler],
+        radiance: &mut [Color],
+        stats: &mut RayStats,
+    ) {
+        assert!(rays.len() == samplers.len() && rays.len() == radiance.len());
+        for ((ray, sampler), out) in rays.iter().zip(samplers.iter_mut()).zip(radiance.iter_mut()) {
+            *out = self.li(scene, ray, sampler, stats);
+        }
+    }
 }

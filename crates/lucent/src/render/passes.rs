@@ -4,9 +4,10 @@
 //! result as one uninterrupted run.
 
 use super::{RenderError, RenderOptions, RenderReport, RenderSettings, CANCEL_PASS_INTERVAL};
+use crate::color::Color;
 use crate::film::{film_response, Accumulator, Filter, SplatBand};
-use crate::geometry::Vec2;
-use crate::integrator::{Integrator, RayStats};
+use crate::geometry::{Ray, Vec2, Vec3};
+use crate::integrator::{Integrator, RayStats, PATH_LANES};
 use crate::sampling::{Sampler, SamplerKind};
 use crate::scene::Scene;
 use rayon::prelude::*;
@@ -165,35 +166,59 @@ impl<I: Integrator> Pass<'_, I> {
         (0..h)
             .into_par_iter()
             .map_init(
-                || (Sampler::new(settings.sampler, settings.seed, settings.spp), SplatBand::new(self.filter, w, h)),
-                |(sampler, band), y| {
+                || {
+                    let sampler = Sampler::new(settings.sampler, settings.seed, settings.spp);
+                    (vec![sampler; PATH_LANES], SplatBand::new(self.filter, w, h))
+                },
+                |(samplers, band), y| {
                     let mut stats = RayStats::default();
                     if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
                         return stats;
                     }
                     let mut bad = 0;
                     band.start_row(y);
-                    for x in 0..w {
+                    // The row in runs of PATH_LANES pixels, traced a sample
+                    // index at a time: lane j keeps pixel x0 + j (and its
+                    // sampler that pixel's scramble seeds) for the whole
+                    // pass.
+                    let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); PATH_LANES];
+                    let mut film_u = [Vec2::ZERO; PATH_LANES];
+                    let mut radiance = [Color::ZERO; PATH_LANES];
+                    for x0 in (0..w).step_by(PATH_LANES) {
+                        let n = (w - x0).min(PATH_LANES as u32) as usize;
                         for index in first..first + self.spp {
-                            sampler.start_pixel_sample(x, y, index);
-                            let u = sampler.pixel_2d();
-                            let film_pos = Vec2::new(x as f32, y as f32) + u;
-                            let lens = if has_lens {
-                                sampler.get_2d()
-                            } else {
-                                sampler.skip_2d();
-                                Vec2::ZERO
-                            };
-                            let ray = camera.generate_ray(film_pos, lens);
-                            let l = self.integrator.li(self.scene, &ray, sampler, &mut stats);
-                            if !l.is_finite() {
-                                bad += 1;
-                                continue;
+                            for j in 0..n {
+                                let (x, sampler) = (x0 + j as u32, &mut samplers[j]);
+                                sampler.start_pixel_sample(x, y, index);
+                                let u = sampler.pixel_2d();
+                                let film_pos = Vec2::new(x as f32, y as f32) + u;
+                                let lens = if has_lens {
+                                    sampler.get_2d()
+                                } else {
+                                    sampler.skip_2d();
+                                    Vec2::ZERO
+                                };
+                                rays[j] = camera.generate_ray(film_pos, lens);
+                                film_u[j] = u;
                             }
-                            // The film's response (pbrt-v4's RGBFilm): scale,
-                            // then clamp, per sample.
-                            let l = film_response(l, film_scale, max_component);
-                            band.add(x, u, l, self.acc);
+                            self.integrator.li_lanes(
+                                self.scene,
+                                &rays[..n],
+                                &mut samplers[..n],
+                                &mut radiance[..n],
+                                &mut stats,
+                            );
+                            for j in 0..n {
+                                let l = radiance[j];
+                                if !l.is_finite() {
+                                    bad += 1;
+                                    continue;
+                                }
+                                // The film's response (pbrt-v4's RGBFilm):
+                                // scale, then clamp, per sample.
+                                let l = film_response(l, film_scale, max_component);
+                                band.add(x0 + j as u32, film_u[j], l, self.acc);
+                            }
                         }
                     }
                     band.flush(self.acc);

@@ -293,6 +293,31 @@ impl Sampler {
         }
     }
 
+    /// The five dimensions a path vertex draws, in their order: light
+    /// choice (1D), point on the light (2D), lobe choice (1D), direction
+    /// (2D) and Russian roulette (1D). The same values as those calls one
+    /// by one.
+    #[inline(always)]
+    pub fn vertex(&mut self) -> VertexSamples {
+        let light = self.get_1d();
+        let point = self.get_2d();
+        let lobe = self.get_1d();
+        let dir = self.get_2d();
+        let rr = self.get_1d();
+        VertexSamples { light, point, lobe, dir, rr }
+    }
+
+    /// The Sobol sampler's state for the next [`Sampler::vertex`], which it
+    /// then skips: the premixed index and the scramble seeds of the five
+    /// dimensions. For [`super::lanes`], which computes the values of many
+    /// samplers at once.
+    #[inline(always)]
+    pub(super) fn sobol_vertex_state(&mut self) -> (u32, [[u32; 3]; 5]) {
+        debug_assert_eq!(self.kind, SamplerKind::Sobol);
+        let seeds = std::array::from_fn(|_| self.dimension_seeds());
+        (self.index_premixed, seeds)
+    }
+
     /// The sample's position within the pixel filter's support: the first
     /// two dimensions.
     #[inline(always)]
@@ -317,6 +342,21 @@ impl Sampler {
         }
         seeds
     }
+}
+
+/// The sample dimensions of one path vertex ([`Sampler::vertex`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct VertexSamples {
+    /// Which light to sample.
+    pub light: f32,
+    /// Where on the light.
+    pub point: Vec2,
+    /// Which BSDF lobe to sample.
+    pub lobe: f32,
+    /// The direction within the lobe.
+    pub dir: Vec2,
+    /// Russian roulette.
+    pub rr: f32,
 }
 
 /// How many dimensions' scramble seeds a Sobol sampler keeps for its
@@ -400,8 +440,8 @@ fn splitmix64(mut z: u64) -> u64 {
 
 /// The top 24 bits of a 32-bit fixed-point fraction as a float in `[0, 1)`:
 /// every value is exact and the largest is `1 − 2⁻²⁴`.
-#[inline]
-fn to_unit_float(bits: u32) -> f32 {
+#[inline(always)]
+pub(super) fn to_unit_float(bits: u32) -> f32 {
     (bits >> 8) as f32 * INV_2_24
 }
 
@@ -414,6 +454,7 @@ fn to_unit_float(bits: u32) -> f32 {
 /// numbers (Bratley and Fox, "Algorithm 659", ACM TOMS 14(1), 1988, eq. 2),
 /// `v_k = a₁v_{k−1} ⊕ v_{k−1}/2` with `a₁ = 1`, gives `v₁ = 1/2` and
 /// `v_k = v_{k−1} ⊕ (v_{k−1} >> 1)`: the matrix is Pascal's triangle mod 2.
+#[cfg(test)]
 const SOBOL_1_MATRIX: [u32; 32] = {
     let mut m = [0u32; 32];
     m[0] = 1 << 31;
@@ -428,6 +469,7 @@ const SOBOL_1_MATRIX: [u32; 32] = {
 /// [`SOBOL_1_MATRIX`] applied to each possible byte of an index, one table
 /// per byte position: the map is linear over GF(2), so the image of an
 /// index is the XOR of the images of its four bytes.
+#[cfg(test)]
 const SOBOL_1_BYTES: [[u32; 256]; 4] = {
     let mut t = [[0u32; 256]; 4];
     let mut byte = 0;
@@ -463,32 +505,27 @@ fn sobol_1(index: u32) -> u32 {
         ^ SOBOL_1_BYTES[3][b3 as usize]
 }
 
-/// [`SOBOL_1_BYTES`] with every entry's bits reversed: the tables of the
-/// linear map `index ↦ reverse(sobol_1(index))` (reversing the bits of an
-/// XOR is the XOR of the reversed operands).
-const SOBOL_1_REVERSED_BYTES: [[u32; 256]; 4] = {
-    let mut t = [[0u32; 256]; 4];
-    let mut byte = 0;
-    while byte < 4 {
-        let mut x = 0;
-        while x < 256 {
-            t[byte][x] = SOBOL_1_BYTES[byte][x].reverse_bits();
-            x += 1;
-        }
-        byte += 1;
-    }
-    t
-};
-
-/// `sobol_1(index).reverse_bits()`, from [`SOBOL_1_REVERSED_BYTES`]: the
-/// bit order in which the Owen scramble works, without a reversal.
-#[inline]
-fn sobol_1_reversed(index: u32) -> u32 {
-    let [b0, b1, b2, b3] = index.to_le_bytes();
-    SOBOL_1_REVERSED_BYTES[0][b0 as usize]
-        ^ SOBOL_1_REVERSED_BYTES[1][b1 as usize]
-        ^ SOBOL_1_REVERSED_BYTES[2][b2 as usize]
-        ^ SOBOL_1_REVERSED_BYTES[3][b3 as usize]
+/// `sobol_1(index).reverse_bits()`: the bit order in which the Owen
+/// scramble works, without a reversal, in five shift-mask-XOR steps.
+///
+/// Column `k` of [`SOBOL_1_MATRIX`] is row `k` of Pascal's triangle mod 2
+/// read from the top bit down: bit `31 − m` of it is `C(k, m) mod 2`, which
+/// by Lucas' theorem is 1 exactly when the binary digits of `m` are a
+/// subset of those of `k`. Reversed, bit `m` of the image is therefore the
+/// XOR of the index bits `k ⊇ m`: the superset-sum (zeta) transform over
+/// the five-bit bit positions, which takes one step per position bit `b`,
+/// `y ⊕= (y >> 2ᵇ) & mask_b` with `mask_b` the positions whose bit `b` is
+/// clear. The same steps on every lane of a vector need no table lookups
+/// (gathers).
+#[inline(always)]
+pub(super) fn sobol_1_reversed(index: u32) -> u32 {
+    let mut y = index;
+    y ^= (y >> 1) & 0x5555_5555;
+    y ^= (y >> 2) & 0x3333_3333;
+    y ^= (y >> 4) & 0x0f0f_0f0f;
+    y ^= (y >> 8) & 0x00ff_00ff;
+    y ^= y >> 16;
+    y
 }
 
 /// The same as [`sobol_1`], one matrix column per set bit (the
@@ -529,7 +566,7 @@ fn nested_uniform_scramble(v: u32, seed: u32) -> u32 {
 /// The first step of the scramble, on reversed bits: the same for every
 /// seed, so an index's is computed once per sample.
 #[inline(always)]
-fn lk_premix(x: u32) -> u32 {
+pub(super) fn lk_premix(x: u32) -> u32 {
     x ^ x.wrapping_mul(0x3d20_adea)
 }
 
@@ -539,7 +576,7 @@ fn lk_premix(x: u32) -> u32 {
 /// reversal (`j.reverse_bits()`), `r` is `j` and no reversal is needed on
 /// the way in.
 #[inline(always)]
-fn lk_seeded(mut x: u32, seed: u32) -> u32 {
+pub(super) fn lk_seeded(mut x: u32, seed: u32) -> u32 {
     x = x.wrapping_add(seed);
     x = x.wrapping_mul((seed >> 16) | 1);
     x ^= x.wrapping_mul(0x0552_6c56);

@@ -1,9 +1,13 @@
+mod lanes;
+
+pub use lanes::PATH_LANES;
+
 use super::{Integrator, RayStats};
 use crate::bsdf::Bsdf;
 use crate::color::Color;
 use crate::geometry::{Ray, Vec3};
 use crate::interaction::SurfaceInteraction;
-use crate::light::{Emitter, LightSampleContext};
+use crate::light::LightSampleContext;
 use crate::material::{Material, MaterialContext};
 use crate::medium::{HenyeyGreenstein, MediumEvent, MediumId};
 use crate::sampling::Sampler;
@@ -285,175 +289,24 @@ pub fn power_heuristic(pdf_f: f32, pdf_g: f32) -> f32 {
 }
 
 impl Integrator for PathIntegrator {
-    /// Radiance arriving along the camera ray `camera_ray`, one path sample.
+    /// Radiance arriving along the camera ray `camera_ray`, one path sample:
+    /// a batch of one lane.
     fn li(&self, scene: &Scene, camera_ray: &Ray, sampler: &mut Sampler, stats: &mut RayStats) -> Color {
-        let lights = scene.light_set();
-        let mut radiance = Color::ZERO;
-        // Path throughput: product of f·|cos θ|/pdf along the path so far.
-        let mut beta = Color::ONE;
-        // Accumulated η² of refractions, for Russian roulette.
-        let mut eta_scale = 1.0f32;
-        // Whether the last bounce was from a delta lobe (no MIS possible),
-        // and the BSDF pdf and point of the last bounce, for MIS.
-        let mut specular_bounce = false;
-        let mut any_non_specular = false;
-        // Whether a vertex before the last one scattered non-specularly:
-        // light found from the last one is then indirect (for
-        // `max_indirect`).
-        let mut indirect = false;
-        let mut interfaces: Option<bool> = None;
-        let mut skips = 0u32;
-        let mut prev_pdf = 0.0f32;
-        let mut prev_ctx = LightSampleContext { p: camera_ray.origin, n: crate::geometry::Vec3::ZERO };
-        let mut ray = Ray::new(camera_ray.origin, camera_ray.dir.normalize());
-        stats.camera += 1;
-        let mut depth = 0u32;
-        // The medium the ray travels in (always `None` without media).
-        let mut medium = scene.camera_medium();
-        loop {
-            let hit = scene.intersect(&ray, f32::INFINITY);
-            if let Some(m) = medium {
-                // The segment up to the hit (or infinity) in a medium: it
-                // may scatter on the way, or pass with its transmittance.
-                // (Out of line: scenes without media never come here.)
-                let t_max = hit.as_ref().map_or(f32::INFINITY, |si| si.t);
-                let at = PathVertexState { beta, eta_scale, depth, any_non_specular };
-                match self.medium_segment(scene, m, &ray, t_max, at, sampler, stats) {
-                    MediumStep::Pass(weight) => {
-                        beta *= weight;
-                        if beta.max_element() <= 0.0 || !beta.is_finite() {
-                            break;
-                        }
-                    }
-                    MediumStep::Stop(add) => {
-                        radiance += add;
-                        break;
-                    }
-                    MediumStep::Scatter(s) => {
-                        // A scattering point is a vertex: interfaces are
-                        // counted again from here.
-                        skips = 0;
-                        radiance += s.radiance;
-                        beta = s.beta;
-                        specular_bounce = false;
-                        indirect = any_non_specular;
-                        any_non_specular = true;
-                        prev_pdf = s.pdf;
-                        prev_ctx = LightSampleContext { p: s.ray.origin, n: Vec3::ZERO };
-                        ray = s.ray;
-                        depth += 1;
-                        continue;
-                    }
-                }
-            }
-            let Some(si) = hit else {
-                // The ray leaves the scene: environment light.
-                if let Some((index, env)) = scene.environment_light() {
-                    let le = env.le(ray.dir);
-                    if depth == 0 || specular_bounce {
-                        radiance += self.contribution(beta * le, indirect);
-                    } else {
-                        let p_light = lights.pmf(index)
-                            * lights.emitters()[index].pdf_li(&prev_ctx, ray.dir, ray.origin, ray.dir);
-                        radiance += self.contribution(beta * le * self.bsdf_weight(prev_pdf, p_light), indirect);
-                    }
-                }
-                break;
-            };
-            let wo = -ray.dir;
+        let mut radiance = [Color::ZERO];
+        self.li_lanes(scene, std::slice::from_ref(camera_ray), std::slice::from_mut(sampler), &mut radiance, stats);
+        radiance[0]
+    }
 
-            // Light emitted by the surface hit.
-            if let Some(index) = si.light {
-                let index = index as usize;
-                if let Emitter::Area(area) = &lights.emitters()[index] {
-                    let le = area.emitted(si.p, si.uv, wo);
-                    if le.max_element() > 0.0 {
-                        if depth == 0 || specular_bounce {
-                            radiance += self.contribution(beta * le, indirect);
-                        } else {
-                            let p_light =
-                                lights.pmf(index) * lights.emitters()[index].pdf_li(&prev_ctx, ray.dir, si.p, si.n);
-                            radiance += self.contribution(beta * le * self.bsdf_weight(prev_pdf, p_light), indirect);
-                        }
-                    }
-                }
-            }
-            // The material at the hit; an interface is no surface: go on
-            // through it without counting a bounce.
-            let mctx = material_context(&si, wo);
-            let Some(mut bsdf) = scene.material(si.material).bsdf_at(&mctx, scene.materials()) else {
-                skips += 1;
-                if skips > MAX_INTERFACE_SKIPS {
-                    break;
-                }
-                if si.media.is_transition() {
-                    medium = si.media.medium_along(ray.dir, si.n);
-                }
-                ray = si.spawn_ray(ray.dir);
-                continue;
-            };
-            skips = 0;
-            if depth >= self.max_depth {
-                break;
-            }
-            if self.regularize && any_non_specular {
-                bsdf.regularize();
-            }
-            let ns = bsdf.frame().z;
-            let ctx = LightSampleContext { p: si.p, n: si.n };
-
-            // Next-event estimation. The dimensions are drawn even when
-            // unused, to keep the pattern fixed.
-            let u_light = sampler.get_1d();
-            let u_point = sampler.get_2d();
-            if !bsdf.is_specular() && self.direct != DirectLighting::BsdfOnly {
-                let direct =
-                    beta * self.sample_light(scene, &si, &bsdf, wo, medium, u_light, u_point, stats, &mut interfaces);
-                // The light's last bounce is this vertex: indirect if an
-                // earlier one was non-specular.
-                radiance += self.contribution(direct, any_non_specular);
-            }
-
-            // Continue the path by sampling the BSDF.
-            let u_lobe = sampler.get_1d();
-            let u_dir = sampler.get_2d();
-            let u_rr = sampler.get_1d();
-            let Some(bs) = bsdf.sample_f(wo, u_lobe, u_dir) else { break };
-            if bs.pdf <= 0.0 || bs.f.max_element() <= 0.0 {
-                break;
-            }
-            beta *= bs.f * (bs.wi.dot(ns).abs() / bs.pdf);
-            if !beta.is_finite() {
-                break;
-            }
-            specular_bounce = bs.specular;
-            // Light found by this bounce is indirect if a vertex before
-            // this one scattered non-specularly.
-            indirect = any_non_specular;
-            any_non_specular |= !bs.specular;
-            prev_pdf = bs.pdf;
-            prev_ctx = ctx;
-            if bs.transmission {
-                eta_scale *= bs.eta * bs.eta;
-            }
-            if si.media.is_transition() {
-                medium = si.media.medium_along(bs.wi, si.n);
-            }
-            ray = si.spawn_ray(bs.wi);
-            stats.secondary += 1;
-
-            // Russian roulette, from the vertex RR_DEPTH on: survive with
-            // probability min(max β·η², 0.95) and divide by it.
-            if depth + 1 >= RR_DEPTH {
-                let survive = (beta * eta_scale).max_element().min(0.95);
-                if u_rr >= survive {
-                    break;
-                }
-                beta /= survive;
-            }
-            depth += 1;
-        }
-        radiance
+    /// Many path samples at once, a vertex at a time (see [`lanes`]).
+    fn li_lanes(
+        &self,
+        scene: &Scene,
+        rays: &[Ray],
+        samplers: &mut [Sampler],
+        radiance: &mut [Color],
+        stats: &mut RayStats,
+    ) {
+        self.trace_lanes(scene, rays, samplers, radiance, stats);
     }
 }
 

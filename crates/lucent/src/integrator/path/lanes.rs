@@ -1,0 +1,398 @@
+//! The path integrator's loop: many paths at once, advanced a vertex at a
+//! time in stages.
+//!
+//! A batch of up to [`PATH_LANES`] camera rays (one lane each) is traced
+//! together. Each round of the loop takes every live lane one vertex
+//! further, in four stages, each run over all the lanes that need it
+//! before the next starts:
+//!
+//! 1. **surface**: the ray query, the medium segment up to the hit (scenes
+//!    with media), light found by the ray (emitters and the environment),
+//!    and the material at the hit. A lane that hit an interface or
+//!    scattered in a medium goes straight to the next round; a lane that
+//!    left the scene or reached the depth limit ends; the others have a
+//!    BSDF to shade with;
+//! 2. **samples**: the five sample dimensions of the vertex ([`VertexSamples`])
+//!    for every shading lane at once ([`Sampler::vertex_lanes`]);
+//! 3. **light**: next-event estimation;
+//! 4. **scatter**: the BSDF sample that continues the path, and Russian
+//!    roulette.
+//!
+//! This is the structure of vectorised production path tracers (Lee et
+//! al., "Vectorized Production Path Tracing", HPG 2017: queue, then shade
+//! in SIMD; Mitsuba 3 runs its whole loop on wide lanes), in the form that
+//! lets each stage run across lanes: the sample stage does, and each stage
+//! is a loop over an index list that a vector kernel can take over.
+//!
+//! Lanes never interact: a lane's result depends only on its own ray and
+//! sampler, whatever the other lanes of its batch, in which order they
+//! run, or when they end. A render is therefore the same whatever the
+//! batches (and the number of threads), and equal to tracing each path
+//! alone ([`crate::integrator::Integrator::li`] is a batch of one).
+
+use super::{
+    material_context, DirectLighting, MediumStep, PathIntegrator, PathVertexState, MAX_INTERFACE_SKIPS, RR_DEPTH,
+};
+use crate::bsdf::Bsdf;
+use crate::color::Color;
+use crate::geometry::{Ray, Vec3};
+use crate::integrator::RayStats;
+use crate::interaction::SurfaceInteraction;
+use crate::light::{Emitter, LightSampleContext};
+use crate::medium::MediumId;
+use crate::sampling::{Sampler, VertexSamples};
+use crate::scene::Scene;
+
+/// Most paths traced together in one batch.
+pub const PATH_LANES: usize = 16;
+
+/// One path's state between vertices.
+#[derive(Clone, Copy)]
+struct PathState {
+    /// Radiance found so far.
+    radiance: Color,
+    /// Path throughput: product of f·|cos θ|/pdf along the path so far.
+    beta: Color,
+    /// Accumulated η² of refractions, for Russian roulette.
+    eta_scale: f32,
+    /// Whether the last bounce was from a delta lobe (no MIS possible).
+    specular_bounce: bool,
+    /// Whether any vertex so far scattered non-specularly.
+    any_non_specular: bool,
+    /// Whether a vertex before the last one scattered non-specularly:
+    /// light found from the last one is then indirect (`max_indirect`).
+    indirect: bool,
+    /// Interfaces passed in a row.
+    skips: u32,
+    /// The pdf of the last scattering direction, and where it was chosen,
+    /// for MIS of light the ray finds.
+    prev_pdf: f32,
+    prev_ctx: LightSampleContext,
+    /// The ray to trace next.
+    ray: Ray,
+    /// Scattering events so far.
+    depth: u32,
+    /// The medium the ray travels in (always `None` without media).
+    medium: Option<MediumId>,
+}
+
+impl PathState {
+    /// A path starting along `camera_ray` in `medium`.
+    fn new(camera_ray: &Ray, medium: Option<MediumId>) -> Self {
+        Self {
+            radiance: Color::ZERO,
+            beta: Color::ONE,
+            eta_scale: 1.0,
+            specular_bounce: false,
+            any_non_specular: false,
+            indirect: false,
+            skips: 0,
+            prev_pdf: 0.0,
+            prev_ctx: LightSampleContext { p: camera_ray.origin, n: Vec3::ZERO },
+            ray: Ray::new(camera_ray.origin, camera_ray.dir.normalize()),
+            depth: 0,
+            medium,
+        }
+    }
+}
+
+/// What the surface stage found for a lane.
+enum Surface {
+    /// The path has ended.
+    End,
+    /// The path goes on with a new ray and no vertex to shade (it passed an
+    /// interface, or scattered in a medium).
+    Trace,
+    /// A surface to shade, written to the lane's vertex.
+    Shade,
+}
+
+/// The lanes of a batch that some stage runs on, in any order.
+struct LaneList {
+    lanes: [u8; PATH_LANES],
+    len: usize,
+}
+
+impl LaneList {
+    fn empty() -> Self {
+        Self { lanes: [0; PATH_LANES], len: 0 }
+    }
+
+    fn first(n: usize) -> Self {
+        let mut list = Self::empty();
+        for i in 0..n {
+            list.push(i);
+        }
+        list
+    }
+
+    #[inline]
+    fn push(&mut self, lane: usize) {
+        self.lanes[self.len] = lane as u8;
+        self.len += 1;
+    }
+
+    #[inline]
+    fn as_slice(&self) -> &[u8] {
+        &self.lanes[..self.len]
+    }
+}
+
+impl PathIntegrator {
+    /// Radiance along each of `rays`, one path sample per ray, with
+    /// `samplers[i]` positioned at ray `i`'s pixel sample (film and lens
+    /// dimensions consumed): into `radiance[i]`.
+    pub(super) fn trace_lanes(
+        &self,
+        scene: &Scene,
+        rays: &[Ray],
+        samplers: &mut [Sampler],
+        radiance: &mut [Color],
+        stats: &mut RayStats,
+    ) {
+        assert!(rays.len() == samplers.len() && rays.len() == radiance.len());
+        let chunks = rays.chunks(PATH_LANES).zip(samplers.chunks_mut(PATH_LANES)).zip(radiance.chunks_mut(PATH_LANES));
+        for ((rays, samplers), radiance) in chunks {
+            self.li_batch(scene, rays, samplers, radiance, stats);
+        }
+    }
+
+    /// [`PathIntegrator::trace_lanes`] for at most [`PATH_LANES`] rays.
+    fn li_batch(
+        &self,
+        scene: &Scene,
+        rays: &[Ray],
+        samplers: &mut [Sampler],
+        radiance: &mut [Color],
+        stats: &mut RayStats,
+    ) {
+        let n = rays.len();
+        debug_assert!(n <= PATH_LANES);
+        let medium = scene.camera_medium();
+        let mut paths = [PathState::new(&Ray::new(Vec3::ZERO, Vec3::Z), None); PATH_LANES];
+        for (path, ray) in paths.iter_mut().zip(rays) {
+            *path = PathState::new(ray, medium);
+        }
+        stats.camera += n as u64;
+        let mut vertices: [Option<(SurfaceInteraction, Bsdf)>; PATH_LANES] = [None; PATH_LANES];
+        let mut u = [VertexSamples::default(); PATH_LANES];
+        let mut interfaces: Option<bool> = None;
+        let mut live = LaneList::first(n);
+        while live.len > 0 {
+            // 1. Ray queries and what they find.
+            let mut next = LaneList::empty();
+            let mut shade = LaneList::empty();
+            for &lane in live.as_slice() {
+                let i = lane as usize;
+                match self.surface(scene, &mut paths[i], &mut vertices[i], &mut samplers[i], stats) {
+                    Surface::End => {}
+                    Surface::Trace => next.push(i),
+                    Surface::Shade => shade.push(i),
+                }
+            }
+            // 2. The vertex's sample dimensions, drawn even where unused to
+            // keep the pattern fixed.
+            Sampler::vertex_lanes(samplers, shade.as_slice(), &mut u);
+            // 3. Next-event estimation.
+            if self.direct != DirectLighting::BsdfOnly {
+                for &lane in shade.as_slice() {
+                    let i = lane as usize;
+                    let Some((si, bsdf)) = &vertices[i] else { continue };
+                    if bsdf.is_specular() {
+                        continue;
+                    }
+                    let path = &mut paths[i];
+                    let wo = -path.ray.dir;
+                    let direct = path.beta
+                        * self.sample_light(
+                            scene,
+                            si,
+                            bsdf,
+                            wo,
+                            path.medium,
+                            u[i].light,
+                            u[i].point,
+                            stats,
+                            &mut interfaces,
+                        );
+                    // The light's last bounce is this vertex: indirect if an
+                    // earlier one was non-specular.
+                    path.radiance += self.contribution(direct, path.any_non_specular);
+                }
+            }
+            // 4. Continue by sampling the BSDF.
+            for &lane in shade.as_slice() {
+                let i = lane as usize;
+                let Some((si, bsdf)) = &vertices[i] else { continue };
+                if self.scatter(&mut paths[i], si, bsdf, &u[i], stats) {
+                    next.push(i);
+                }
+            }
+            live = next;
+        }
+        for (out, path) in radiance.iter_mut().zip(&paths) {
+            *out = path.radiance;
+        }
+    }
+
+    /// The surface stage for one lane: trace its ray, cross the medium up
+    /// to the hit, add the light the ray finds, and resolve the material
+    /// (into `vertex`, for [`Surface::Shade`]).
+    fn surface(
+        &self,
+        scene: &Scene,
+        path: &mut PathState,
+        vertex: &mut Option<(SurfaceInteraction, Bsdf)>,
+        sampler: &mut Sampler,
+        stats: &mut RayStats,
+    ) -> Surface {
+        let ray = path.ray;
+        let hit = scene.intersect(&ray, f32::INFINITY);
+        if let Some(m) = path.medium {
+            // The segment up to the hit (or infinity) in a medium: it may
+            // scatter on the way, or pass with its transmittance. (Out of
+            // line: scenes without media never come here.)
+            let t_max = hit.as_ref().map_or(f32::INFINITY, |si| si.t);
+            let at = PathVertexState {
+                beta: path.beta,
+                eta_scale: path.eta_scale,
+                depth: path.depth,
+                any_non_specular: path.any_non_specular,
+            };
+            match self.medium_segment(scene, m, &ray, t_max, at, sampler, stats) {
+                MediumStep::Pass(weight) => {
+                    path.beta *= weight;
+                    if path.beta.max_element() <= 0.0 || !path.beta.is_finite() {
+                        return Surface::End;
+                    }
+                }
+                MediumStep::Stop(add) => {
+                    path.radiance += add;
+                    return Surface::End;
+                }
+                MediumStep::Scatter(s) => {
+                    // A scattering point is a vertex: interfaces are counted
+                    // again from here.
+                    path.skips = 0;
+                    path.radiance += s.radiance;
+                    path.beta = s.beta;
+                    path.specular_bounce = false;
+                    path.indirect = path.any_non_specular;
+                    path.any_non_specular = true;
+                    path.prev_pdf = s.pdf;
+                    path.prev_ctx = LightSampleContext { p: s.ray.origin, n: Vec3::ZERO };
+                    path.ray = s.ray;
+                    path.depth += 1;
+                    return Surface::Trace;
+                }
+            }
+        }
+        let lights = scene.light_set();
+        let Some(si) = hit else {
+            // The ray leaves the scene: environment light.
+            if let Some((index, env)) = scene.environment_light() {
+                let le = env.le(ray.dir);
+                let c = if path.depth == 0 || path.specular_bounce {
+                    path.beta * le
+                } else {
+                    let p_light = lights.pmf(index)
+                        * lights.emitters()[index].pdf_li(&path.prev_ctx, ray.dir, ray.origin, ray.dir);
+                    path.beta * le * self.bsdf_weight(path.prev_pdf, p_light)
+                };
+                path.radiance += self.contribution(c, path.indirect);
+            }
+            return Surface::End;
+        };
+        let wo = -ray.dir;
+
+        // Light emitted by the surface hit.
+        if let Some(index) = si.light {
+            let index = index as usize;
+            if let Emitter::Area(area) = &lights.emitters()[index] {
+                let le = area.emitted(si.p, si.uv, wo);
+                if le.max_element() > 0.0 {
+                    let c = if path.depth == 0 || path.specular_bounce {
+                        path.beta * le
+                    } else {
+                        let p_light =
+                            lights.pmf(index) * lights.emitters()[index].pdf_li(&path.prev_ctx, ray.dir, si.p, si.n);
+                        path.beta * le * self.bsdf_weight(path.prev_pdf, p_light)
+                    };
+                    path.radiance += self.contribution(c, path.indirect);
+                }
+            }
+        }
+        // The material at the hit; an interface is no surface: go on
+        // through it without counting a bounce.
+        let mctx = material_context(&si, wo);
+        let Some(mut bsdf) = scene.material(si.material).bsdf_at(&mctx, scene.materials()) else {
+            path.skips += 1;
+            if path.skips > MAX_INTERFACE_SKIPS {
+                return Surface::End;
+            }
+            if si.media.is_transition() {
+                path.medium = si.media.medium_along(ray.dir, si.n);
+            }
+            path.ray = si.spawn_ray(ray.dir);
+            return Surface::Trace;
+        };
+        path.skips = 0;
+        if path.depth >= self.max_depth {
+            return Surface::End;
+        }
+        if self.regularize && path.any_non_specular {
+            bsdf.regularize();
+        }
+        *vertex = Some((si, bsdf));
+        Surface::Shade
+    }
+
+    /// The scatter stage for one lane: sample the BSDF at `si` for the
+    /// path's next direction, then Russian roulette. Whether the path goes
+    /// on.
+    fn scatter(
+        &self,
+        path: &mut PathState,
+        si: &SurfaceInteraction,
+        bsdf: &Bsdf,
+        u: &VertexSamples,
+        stats: &mut RayStats,
+    ) -> bool {
+        let wo = -path.ray.dir;
+        let Some(bs) = bsdf.sample_f(wo, u.lobe, u.dir) else { return false };
+        if bs.pdf <= 0.0 || bs.f.max_element() <= 0.0 {
+            return false;
+        }
+        path.beta *= bs.f * (bs.wi.dot(bsdf.frame().z).abs() / bs.pdf);
+        if !path.beta.is_finite() {
+            return false;
+        }
+        path.specular_bounce = bs.specular;
+        // Light found by this bounce is indirect if a vertex before this
+        // one scattered non-specularly.
+        path.indirect = path.any_non_specular;
+        path.any_non_specular |= !bs.specular;
+        path.prev_pdf = bs.pdf;
+        path.prev_ctx = LightSampleContext { p: si.p, n: si.n };
+        if bs.transmission {
+            path.eta_scale *= bs.eta * bs.eta;
+        }
+        if si.media.is_transition() {
+            path.medium = si.media.medium_along(bs.wi, si.n);
+        }
+        path.ray = si.spawn_ray(bs.wi);
+        stats.secondary += 1;
+
+        // Russian roulette, from the vertex RR_DEPTH on: survive with
+        // probability min(max β·η², 0.95) and divide by it.
+        if path.depth + 1 >= RR_DEPTH {
+            let survive = (path.beta * path.eta_scale).max_element().min(0.95);
+            if u.rr >= survive {
+                return false;
+            }
+            path.beta /= survive;
+        }
+        path.depth += 1;
+        true
+    }
+}
