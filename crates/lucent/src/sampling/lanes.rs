@@ -39,30 +39,25 @@ impl Sampler {
     /// other kinds draw theirs one by one.
     pub fn vertex_lanes(samplers: &mut [Sampler], lanes: &[u8], out: &mut [VertexSamples]) {
         for group in lanes.chunks(KERNEL_LANES) {
-            let mut input = SobolLanes::default();
-            let mut sobol = [0u8; KERNEL_LANES];
-            let mut k = 0;
-            for &lane in group {
-                let sampler = &mut samplers[lane as usize];
-                if sampler.kind() != SamplerKind::Sobol {
-                    out[lane as usize] = sampler.vertex();
-                    continue;
+            // (A render's samplers are all of one kind.)
+            if !group.iter().all(|&lane| samplers[lane as usize].kind() == SamplerKind::Sobol) {
+                for &lane in group {
+                    out[lane as usize] = samplers[lane as usize].vertex();
                 }
-                let (index_premixed, seeds) = sampler.sobol_vertex_state();
+                continue;
+            }
+            let mut input = SobolLanes::default();
+            for (k, &lane) in group.iter().enumerate().take(KERNEL_LANES) {
+                let (index_premixed, seeds) = samplers[lane as usize].sobol_vertex_state();
                 input.index_premixed[k] = index_premixed;
                 for (d, seeds) in seeds.iter().enumerate() {
                     for (c, &seed) in seeds.iter().enumerate() {
                         input.seeds[d][c][k] = seed;
                     }
                 }
-                sobol[k] = lane;
-                k += 1;
-            }
-            if k == 0 {
-                continue;
             }
             let values = sobol_vertices(&input);
-            for (slot, &lane) in sobol[..k].iter().enumerate() {
+            for (slot, &lane) in group.iter().enumerate() {
                 let v = |c: usize| values[c][slot];
                 out[lane as usize] = VertexSamples {
                     light: v(0),

@@ -314,6 +314,11 @@ impl Sampler {
     #[inline(always)]
     pub(super) fn sobol_vertex_state(&mut self) -> (u32, [[u32; 3]; 5]) {
         debug_assert_eq!(self.kind, SamplerKind::Sobol);
+        let d = self.dimension as usize;
+        if let Some(&[a, b, c, e, f]) = self.seeds.get(d..d + 5) {
+            self.dimension += 5;
+            return (self.index_premixed, [a, b, c, e, f]);
+        }
         let seeds = std::array::from_fn(|_| self.dimension_seeds());
         (self.index_premixed, seeds)
     }
