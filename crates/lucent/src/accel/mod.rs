@@ -14,10 +14,12 @@ mod simd;
 
 pub(crate) use bvh::prefetch;
 pub(crate) use pages::{PageArray, ZeroIsValid};
-#[cfg(test)]
+#[cfg(all(test, target_arch = "x86_64"))]
 pub(crate) use simd::detect as simd_detected;
+pub(crate) use simd::isa;
 pub use simd::traversal_isa;
-pub(crate) use simd::{isa, Isa};
+#[cfg(target_arch = "x86_64")]
+pub(crate) use simd::Isa;
 
 pub use bvh::{BoxRay, Bvh, BvhNode, MAX_LEAF_SIZE, WIDTH};
 pub use light_buffer::LightBuffer;

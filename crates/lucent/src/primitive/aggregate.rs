@@ -423,6 +423,8 @@ mod light_buffer_tests {
 }
 
 #[cfg(test)]
+// The one test compares the x86-64 builds.
+#[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
 mod tests {
     use super::*;
     use crate::geometry::Transform;

@@ -382,6 +382,7 @@ fn dimension_hash(pixel_hash: u64, d: u32) -> [u32; 3] {
 
 /// How many dimensions' seeds [`fill_first_seeds`] hashes at once when a
 /// sampler moves to a new pixel: about six bounces of a path.
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 const EAGER_DIMENSIONS: usize = 32;
 
 /// Append the scramble seeds of dimensions `0..EAGER_DIMENSIONS` of the
@@ -394,6 +395,8 @@ const EAGER_DIMENSIONS: usize = 32;
 /// the current pixel's seeds, so the first sample of every pixel in every
 /// pass hashes all the dimensions its path uses: at one sample per pixel
 /// and pass, about 1,150 instructions a sample one by one, about 100 here.
+// (On other CPUs it leaves `seeds` empty, and does not use its `Vec`.)
+#[cfg_attr(not(target_arch = "x86_64"), allow(clippy::ptr_arg))]
 #[inline]
 fn fill_first_seeds(pixel_hash: u64, seeds: &mut Vec<[u32; 3]>) {
     debug_assert!(seeds.is_empty());
@@ -420,6 +423,7 @@ unsafe fn dimension_hashes_avx512(pixel_hash: u64) -> [[u32; 3]; EAGER_DIMENSION
 
 /// [`dimension_hash`] of dimensions `0..EAGER_DIMENSIONS`, written as
 /// loops over independent lanes (the same arithmetic, so the same values).
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 #[inline(always)]
 fn dimension_hashes(pixel_hash: u64) -> [[u32; 3]; EAGER_DIMENSIONS] {
     let mut a = [0u64; EAGER_DIMENSIONS];

@@ -2,8 +2,9 @@
 //! bottom level of lucent's two-level acceleration structure.
 
 use super::watertight::{intersect_block, intersect_block_filtered, TriangleBlock, WatertightRay};
+use crate::accel::isa;
 #[cfg(target_arch = "x86_64")]
-use crate::accel::{isa, Isa};
+use crate::accel::Isa;
 use crate::accel::{prefetch, BoxRay, Bvh, PageArray, MAX_LEAF_SIZE};
 use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::mesh::TriangleMesh;
@@ -315,6 +316,8 @@ impl MeshBvh {
 }
 
 #[cfg(test)]
+// The one test compares the x86-64 builds.
+#[cfg_attr(not(target_arch = "x86_64"), allow(unused_imports))]
 mod tests {
     use super::*;
     use crate::sampling::Pcg32;
