@@ -141,26 +141,10 @@ impl LaneList {
 }
 
 impl PathIntegrator {
-    /// Radiance along each of `rays`, one path sample per ray, with
-    /// `samplers[i]` positioned at ray `i`'s pixel sample (film and lens
-    /// dimensions consumed): into `radiance[i]`.
-    pub(super) fn trace_lanes(
-        &self,
-        scene: &Scene,
-        rays: &[Ray],
-        samplers: &mut [Sampler],
-        radiance: &mut [Color],
-        stats: &mut RayStats,
-    ) {
-        assert!(rays.len() == samplers.len() && rays.len() == radiance.len());
-        let chunks = rays.chunks(PATH_LANES).zip(samplers.chunks_mut(PATH_LANES)).zip(radiance.chunks_mut(PATH_LANES));
-        for ((rays, samplers), radiance) in chunks {
-            self.li_batch(scene, rays, samplers, radiance, stats);
-        }
-    }
-
-    /// [`PathIntegrator::trace_lanes`] for at most [`PATH_LANES`] rays.
-    fn li_batch(
+    /// Radiance along each of at most [`PATH_LANES`] `rays`, one path
+    /// sample per ray, with `samplers[i]` positioned at ray `i`'s pixel
+    /// sample (film and lens dimensions consumed): into `radiance[i]`.
+    pub(super) fn li_batch(
         &self,
         scene: &Scene,
         rays: &[Ray],

@@ -306,7 +306,11 @@ impl Integrator for PathIntegrator {
         radiance: &mut [Color],
         stats: &mut RayStats,
     ) {
-        self.trace_lanes(scene, rays, samplers, radiance, stats);
+        assert!(rays.len() == samplers.len() && rays.len() == radiance.len());
+        let chunks = rays.chunks(PATH_LANES).zip(samplers.chunks_mut(PATH_LANES)).zip(radiance.chunks_mut(PATH_LANES));
+        for ((rays, samplers), radiance) in chunks {
+            self.li_batch(scene, rays, samplers, radiance, stats);
+        }
     }
 }
 
