@@ -4,7 +4,8 @@
 # Needs only the Rust toolchain and python3 (3.9 or later): the first run
 # makes a virtual environment in target/py-venv (in cargo's target directory,
 # $CARGO_TARGET_DIR if set) and installs maturin, numpy,
-# pytest, tqdm and dask[distributed] into it, at the versions pinned in
+# pytest, tqdm, dask[distributed] and pyoidn (Intel Open Image Denoise, for
+# the denoising tests) into it, at the versions pinned in
 # scripts/python-test-requirements.txt. The wheel is built in the
 # workspace's target directory with the `testing` profile (so the lucent
 # crate built by scripts/test.sh is reused), into target/wheels, and
@@ -24,7 +25,7 @@ fi
 py="$venv/bin/python"
 # Quiet, and only what is missing: a warm environment costs a second.
 # The versions are pinned in scripts/python-test-requirements.txt.
-if ! "$py" -c 'import maturin, numpy, pytest, tqdm, dask.distributed' 2>/dev/null; then
+if ! "$py" -c 'import maturin, numpy, pytest, tqdm, dask.distributed, cffi, importlib.util as u; assert u.find_spec("pyoidn")' 2>/dev/null; then
     "$py" -m pip install --quiet --disable-pip-version-check -r scripts/python-test-requirements.txt
 fi
 

@@ -56,6 +56,53 @@ pub enum Command {
     /// Write a procedural environment map (daylight sky or photo studio)
     /// as a linear .hdr or .exr equirectangular image.
     Sky(SkyArgs),
+    /// Denoise a rendered .exr with Intel Open Image Denoise, guided by its
+    /// albedo and normal layers if it has them (render with --aov
+    /// albedo,normal). OIDN is opened at run time: `pip install pyoidn`, or
+    /// set LUCENT_OIDN to the library.
+    Denoise(DenoiseCommandArgs),
+}
+
+/// `lucent denoise`.
+#[derive(Args, Debug)]
+pub struct DenoiseCommandArgs {
+    /// The noisy image: an .exr with R, G, B (and Albedo.R/G/B, Ns.X/Y/Z).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// The denoised image (.exr keeps the input's layers and its colour as
+    /// Noisy.R/G/B; .png, .bmp and .hdr get the colour).
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// OIDN's quality setting.
+    #[arg(long, value_enum, default_value_t)]
+    pub quality: crate::denoise::QualityArg,
+    /// How the albedo and normal layers guide the denoiser.
+    #[arg(long, value_enum, default_value_t)]
+    pub aux: crate::denoise::AuxArg,
+    /// Worker threads of OIDN, 1 to 1024 [default: all cores].
+    #[arg(long, value_parser = thread_count())]
+    pub threads: Option<usize>,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// `lucent render`'s denoising options.
+#[derive(Args, Debug, Clone, Default)]
+pub struct DenoiseArgs {
+    /// Write the image denoised by Intel Open Image Denoise (opened at run
+    /// time: `pip install pyoidn`, or LUCENT_OIDN=/path/to/the/library),
+    /// guided by albedo and normal images rendered for it. An .exr output
+    /// keeps the noisy colour as Noisy.R/G/B. Samples are then placed by
+    /// filter importance sampling, so that each lands in one pixel.
+    #[arg(long)]
+    pub denoise: bool,
+    /// OIDN's quality setting for --denoise.
+    #[arg(long, value_enum, default_value_t, requires = "denoise")]
+    pub denoise_quality: crate::denoise::QualityArg,
+    /// How the albedo and normal guide --denoise.
+    #[arg(long, value_enum, default_value_t, requires = "denoise")]
+    pub denoise_aux: crate::denoise::AuxArg,
 }
 
 /// Which procedural environment `lucent sky` writes.
@@ -132,6 +179,22 @@ pub struct SceneOverrides {
     /// Most bounces, 0 to 10000 (overrides the scene).
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=10_000))]
     pub max_depth: Option<u32>,
+    /// Auxiliary images to write as layers of the .exr output,
+    /// comma-separated: albedo (Albedo.R/G/B), normal (Ns.X/Y/Z, world
+    /// space), position (P.X/Y/Z, world space), depth (Z); `none` for none
+    /// (overrides the scene's `aov`).
+    #[arg(long, value_name = "LIST", value_parser = aov_list)]
+    pub aov: Option<lucent::film::AovSet>,
+    /// Place each sample in one pixel by importance sampling the filter
+    /// instead of splatting it into every pixel the filter covers (on with
+    /// --denoise; overrides the scene's `filter_importance`).
+    #[arg(long)]
+    pub filter_importance: bool,
+}
+
+/// `--aov` values.
+fn aov_list(s: &str) -> Result<lucent::film::AovSet, String> {
+    s.parse().map_err(|e: lucent::film::UnknownAov| e.to_string())
 }
 
 /// `--integrator` values.
@@ -194,6 +257,8 @@ pub struct RenderArgs {
     /// their samples.
     #[arg(long, value_name = "START..END", value_parser = sample_range)]
     pub samples: Option<std::ops::Range<u32>>,
+    #[command(flatten)]
+    pub denoise: DenoiseArgs,
 }
 
 /// `lucent merge`.

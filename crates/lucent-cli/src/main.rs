@@ -12,6 +12,7 @@ macro_rules! say {
 mod bench;
 mod bench_rays;
 mod cli;
+mod denoise;
 mod diff;
 mod partial;
 mod progress;
@@ -38,6 +39,7 @@ fn main() -> ExitCode {
         Command::Diff(args) => diff::run(&args),
         Command::Merge(args) => partial::merge(&args),
         Command::Sky(args) => sky::run(&args),
+        Command::Denoise(args) => denoise::command(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -50,10 +52,17 @@ fn main() -> ExitCode {
 
 fn run_render(args: &RenderArgs) -> Result<(), String> {
     render::handle_interrupts();
-    let source = source::load(args.scene.as_deref(), &args.overrides, &args.import)?;
+    // A denoiser wants every sample in one pixel: filter importance
+    // sampling.
+    let mut overrides = args.overrides.clone();
+    overrides.filter_importance |= args.denoise.denoise;
+    let source = source::load(args.scene.as_deref(), &overrides, &args.import)?;
     warn(&source.loaded.scene, args.quiet);
     let out_path = args.output.clone().unwrap_or_else(|| default_output(args.scene.as_deref()));
     if args.samples.is_some() || partial::is_part(&out_path) {
+        if args.denoise.denoise {
+            return Err("--denoise applies to images, not to partial renders (.lpart): merge the parts into an .exr with `lucent merge`, then run `lucent denoise` on it (render the parts with --aov albedo,normal and --filter-importance for the best result)".into());
+        }
         return partial::render(args, &source, &out_path);
     }
     render::run(args, &source, &out_path)

@@ -97,7 +97,20 @@ pub fn merge(args: &MergeArgs) -> Result<(), String> {
         merged.save(&args.output).map_err(|e| e.to_string())?;
     } else {
         let pending = PendingImage::create(&args.output).map_err(|e| e.to_string())?;
-        pending.write(&merged.to_film(), merged.tone_map(), merged.srgb()).map_err(|e| e.to_string())?;
+        let mut aovs = merged.to_aov_images();
+        if pending.check_aovs(aovs.aovs).is_err() {
+            if !args.quiet {
+                eprintln!(
+                    "warning: the parts hold auxiliary images ({}), which only an .exr output keeps; {} gets the colour alone",
+                    aovs.aovs,
+                    args.output.display()
+                );
+            }
+            aovs = lucent::film::AovImages::none(merged.width(), merged.height());
+        }
+        pending
+            .write_with_aovs(&merged.to_film(), &aovs, merged.tone_map(), merged.srgb())
+            .map_err(|e| e.to_string())?;
     }
     if !args.quiet {
         say!(

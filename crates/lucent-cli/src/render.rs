@@ -4,7 +4,9 @@
 
 use crate::cli::RenderArgs;
 use crate::progress::FractionProgress;
-use lucent::film::{load_checkpoint, save_checkpoint, Accumulator, CheckpointError, PendingImage};
+use lucent::film::{
+    load_checkpoint, save_checkpoint, Accumulator, AovImages, CheckpointError, ImageFormat, PendingImage,
+};
 use lucent::loader::{SceneSource, MAX_SPP};
 use lucent::render::{render_into, PassInfo, RenderError, RenderOptions};
 use lucent::sampling::SamplerKind;
@@ -35,10 +37,20 @@ pub fn checkpoint_path(output: &Path) -> PathBuf {
 
 pub fn run(args: &RenderArgs, source: &SceneSource, out_path: &Path) -> Result<(), String> {
     let loaded = &source.loaded;
-    let (scene, settings) = (&loaded.scene, &loaded.settings);
+    let scene = &loaded.scene;
     let (w, h) = (scene.camera().width(), scene.camera().height());
     // Reserve the output now: a bad path fails before any rendering.
     let pending = PendingImage::create(out_path).map_err(|e| e.to_string())?;
+    pending.check_aovs(loaded.settings.aovs).map_err(|e| e.to_string())?;
+    // Open the denoiser before rendering: without it, nothing is spent.
+    let denoiser = crate::denoise::open(&args.denoise)?;
+    // The denoiser's guides are rendered too (and kept in an .exr).
+    let mut settings = loaded.settings.clone();
+    settings.aovs = settings.aovs.union(crate::denoise::guides(&args.denoise));
+    let settings = &settings;
+    // Only an .exr holds the auxiliary images.
+    let exr = pending.format() == ImageFormat::Exr;
+    let layers = |acc: &Accumulator| if exr { acc.to_aov_images() } else { AovImages::none(w, h) };
     let ckpt = checkpoint_path(out_path);
     let keep_state = args.checkpoint_every.is_some() || args.resume;
     // The fingerprint reads every mesh and environment file again: only
@@ -52,14 +64,14 @@ pub fn run(args: &RenderArgs, source: &SceneSource, out_path: &Path) -> Result<(
                 out_path.display()
             ));
         }
-        load_checkpoint(&ckpt, fp, w, h).map_err(|e| match e {
+        load_checkpoint(&ckpt, fp, w, h, settings.aovs).map_err(|e| match e {
             CheckpointError::Mismatch { .. } if settings.sampler == SamplerKind::Stratified => format!(
                 "{e}; with the stratified sampler each pixel's samples form one grid of --spp, so a render resumes only with the same --spp (to add samples later, render with --sampler sobol)"
             ),
             e => e.to_string(),
         })?
     } else {
-        Accumulator::new(w, h).map_err(|e| e.to_string())?
+        Accumulator::with_aovs(w, h, settings.aovs).map_err(|e| e.to_string())?
     };
     // With a time budget and no explicit --spp, the budget alone decides.
     let target = match (args.time, args.overrides.spp) {
@@ -81,7 +93,7 @@ pub fn run(args: &RenderArgs, source: &SceneSource, out_path: &Path) -> Result<(
             save_checkpoint(&ckpt, acc, fp).map_err(|e| e.to_string())?;
             // The image in progress, for watching.
             let image = PendingImage::create(out_path).map_err(|e| e.to_string())?;
-            image.write(&acc.to_film(), tone_map, srgb).map_err(|e| e.to_string())?;
+            image.write_with_aovs(&acc.to_film(), &layers(acc), tone_map, srgb).map_err(|e| e.to_string())?;
             last_checkpoint = Instant::now();
         }
         Ok(())
@@ -115,7 +127,24 @@ pub fn run(args: &RenderArgs, source: &SceneSource, out_path: &Path) -> Result<(
     if keep_state && output.is_some() {
         save_checkpoint(&ckpt, &acc, fp).map_err(|e| e.to_string())?;
     }
-    pending.write(&acc.to_film(), tone_map, srgb).map_err(|e| e.to_string())?;
+    let (film, aovs) = (acc.to_film(), layers(&acc));
+    match &denoiser {
+        None => pending.write_with_aovs(&film, &aovs, tone_map, srgb).map_err(|e| e.to_string())?,
+        Some(denoiser) => {
+            let start = Instant::now();
+            let clean = crate::denoise::run_on(denoiser, &args.denoise, &film, &acc.to_aov_images(), args.threads)?;
+            if !args.quiet {
+                say!(
+                    "denoised in {:.2} s (Open Image Denoise from {})",
+                    start.elapsed().as_secs_f64(),
+                    denoiser.library_path()
+                )?;
+            }
+            // An .exr keeps the noisy colour and every layer; the other
+            // formats the denoised colour alone.
+            pending.write_layers(&clean, exr.then_some(&film), &aovs, tone_map, srgb).map_err(|e| e.to_string())?;
+        }
+    }
 
     if let Some(out) = &output {
         if out.nonfinite > 0 && !args.quiet {

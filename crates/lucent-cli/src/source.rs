@@ -43,6 +43,8 @@ fn library_overrides(o: &SceneOverrides, import: &ImportArgs) -> lucent::loader:
             SamplerArg::Independent => SamplerKind::Independent,
         }),
         max_depth: o.max_depth,
+        aovs: o.aov,
+        filter_importance: o.filter_importance.then_some(true),
         strict: import.strict,
         environment: import.env.clone(),
     }

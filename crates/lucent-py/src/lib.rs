@@ -5,6 +5,7 @@
 //! read by the library. The Python package adds NumPy arrays, the scene
 //! builder on dicts, progress bars and notebook display.
 
+mod denoise;
 mod errors;
 mod image;
 mod partial;
@@ -25,5 +26,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(image::write_image, m)?)?;
     m.add_function(wrap_pyfunction!(image::read_image_file, m)?)?;
     m.add_function(wrap_pyfunction!(image::diff, m)?)?;
+    m.add_function(wrap_pyfunction!(denoise::denoise, m)?)?;
     Ok(())
 }

@@ -88,6 +88,12 @@ impl Partial {
     fn image<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
         film_bytes(py, &py.detach(|| self.film.to_film()))
     }
+
+    /// The auxiliary images of the samples held (see
+    /// `Accumulation.aov_images`).
+    fn aov_images<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        crate::render::aov_dict(py, &py.detach(|| self.film.to_aov_images()))
+    }
 }
 
 /// Render samples `start .. end` of every pixel of `scene` (the library's

@@ -145,6 +145,24 @@ impl Accumulation {
     fn image<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
         film_bytes(py, &self.acc.to_film())
     }
+
+    /// The auxiliary images so far: a dict from each AOV's name to its
+    /// channel count and little-endian `float32` values, row by row.
+    fn aov_images<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        aov_dict(py, &self.acc.to_aov_images())
+    }
+}
+
+/// Auxiliary images as a dict from each AOV's name to `(channels, bytes)`:
+/// little-endian `float32` values, `channels` per pixel, row by row.
+pub fn aov_dict<'py>(py: Python<'py>, images: &lucent::film::AovImages) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for aov in images.aovs.iter() {
+        let values = images.layer(aov).expect("held");
+        let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        d.set_item(aov.name(), (aov.channels().len(), PyBytes::new(py, &bytes)))?;
+    }
+    Ok(d)
 }
 
 /// A film's pixels as little-endian `float32` RGB bytes, row by row from

@@ -6,7 +6,7 @@
 use crate::errors::scene_error;
 use crate::partial::{render_partial_py, Partial};
 use crate::render::{render_into_py, Accumulation, RunArgs};
-use lucent::film::Accumulator;
+use lucent::film::{Accumulator, Aov, AovSet};
 use lucent::loader::{SceneFile, SceneFormat, SceneOverrides, SceneSource, MAX_SPP};
 use lucent::render::IntegratorKind;
 use lucent::sampling::SamplerKind;
@@ -36,7 +36,16 @@ fn overrides(
     max_depth: Option<u32>,
     strict: bool,
     env: Option<PathBuf>,
+    aovs: Option<Vec<String>>,
+    filter_importance: Option<bool>,
 ) -> PyResult<SceneOverrides> {
+    let aovs = aovs
+        .map(|names| {
+            names.iter().try_fold(AovSet::NONE, |set, name| {
+                name.parse::<Aov>().map(|a| set.with(a)).map_err(|e| PyValueError::new_err(e.to_string()))
+            })
+        })
+        .transpose()?;
     let integrator = integrator
         .map(|i| match i {
             "whitted" => Ok(IntegratorKind::Whitted),
@@ -62,7 +71,19 @@ fn overrides(
     if spp.is_some_and(|s| s > MAX_SPP) {
         return Err(PyValueError::new_err(format!("spp must be at most {MAX_SPP}")));
     }
-    Ok(SceneOverrides { width, height, spp, seed, integrator, sampler, max_depth, strict, environment: env })
+    Ok(SceneOverrides {
+        width,
+        height,
+        spp,
+        seed,
+        integrator,
+        sampler,
+        max_depth,
+        aovs,
+        filter_importance,
+        strict,
+        environment: env,
+    })
 }
 
 #[pymethods]
@@ -71,7 +92,7 @@ impl Source {
     /// `.pbrt.gz`) with the given overrides; `strict` and `env` are for
     /// pbrt-v4 scenes. The GIL is released while loading.
     #[staticmethod]
-    #[pyo3(signature = (path, *, width=None, height=None, spp=None, seed=None, integrator=None, sampler=None, max_depth=None, strict=false, env=None))]
+    #[pyo3(signature = (path, *, width=None, height=None, spp=None, seed=None, integrator=None, sampler=None, max_depth=None, strict=false, env=None, aovs=None, filter_importance=None))]
     #[allow(clippy::too_many_arguments)]
     fn open(
         py: Python<'_>,
@@ -85,8 +106,11 @@ impl Source {
         max_depth: Option<u32>,
         strict: bool,
         env: Option<PathBuf>,
+        aovs: Option<Vec<String>>,
+        filter_importance: Option<bool>,
     ) -> PyResult<Source> {
-        let o = overrides(width, height, spp, seed, integrator, sampler, max_depth, strict, env)?;
+        let o =
+            overrides(width, height, spp, seed, integrator, sampler, max_depth, strict, env, aovs, filter_importance)?;
         let inner = py.detach(|| SceneSource::open(&path, &o)).map_err(|e| scene_error(py, &e))?;
         Ok(Source { inner, from_text: false })
     }
@@ -95,7 +119,7 @@ impl Source {
     /// it in messages and relative paths in it resolve against its
     /// directory (it need not exist).
     #[staticmethod]
-    #[pyo3(signature = (text, path, *, width=None, height=None, spp=None, seed=None, integrator=None, sampler=None, max_depth=None))]
+    #[pyo3(signature = (text, path, *, width=None, height=None, spp=None, seed=None, integrator=None, sampler=None, max_depth=None, aovs=None, filter_importance=None))]
     #[allow(clippy::too_many_arguments)]
     fn from_json(
         py: Python<'_>,
@@ -108,8 +132,11 @@ impl Source {
         integrator: Option<&str>,
         sampler: Option<&str>,
         max_depth: Option<u32>,
+        aovs: Option<Vec<String>>,
+        filter_importance: Option<bool>,
     ) -> PyResult<Source> {
-        let o = overrides(width, height, spp, seed, integrator, sampler, max_depth, false, None)?;
+        let o =
+            overrides(width, height, spp, seed, integrator, sampler, max_depth, false, None, aovs, filter_importance)?;
         let inner = py
             .detach(|| SceneSource::from_file(SceneFile::parse(text, SceneFormat::Json, Some(path))?, &o))
             .map_err(|e| scene_error(py, &e))?;
@@ -165,7 +192,7 @@ impl Source {
 
     /// An empty accumulation of this scene's size.
     fn accumulation(&self) -> PyResult<Accumulation> {
-        let acc = Accumulator::new(self.width(), self.height())
+        let acc = Accumulator::with_aovs(self.width(), self.height(), self.inner.loaded.settings.aovs)
             .map_err(|e| scene_error_text(&format!("cannot make the image: {e}")))?;
         Ok(Accumulation { acc })
     }

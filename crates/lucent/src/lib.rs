@@ -114,6 +114,10 @@ pub mod scene;
 // The image.
 pub mod film;
 
+// After the image: denoising it (Intel Open Image Denoise, opened at run
+// time).
+pub mod denoise;
+
 // Light transport.
 pub mod integrator;
 

@@ -11,6 +11,7 @@ the command-line program's, bit for bit. See ``docs/python.md``.
 """
 
 from . import _native
+from ._denoise import denoise
 from ._errors import PartialError, SceneError
 from ._image import Image, diff, read, show, write
 from ._partial import Partial, load_partial
@@ -24,6 +25,7 @@ __all__ = [
     "PartialError",
     "Scene",
     "SceneError",
+    "denoise",
     "diff",
     "load",
     "load_partial",

@@ -89,6 +89,14 @@ class Partial:
         array of linear radiance."""
         return _image.from_bytes(self._native.image(), self.width, self.height)
 
+    def aovs(self) -> "dict[str, np.ndarray]":
+        """The auxiliary images of the samples held (rendered with
+        ``aovs``), by name: ``(height, width, 3)`` arrays, ``(height,
+        width)`` for depth."""
+        from ._denoise import layers
+
+        return layers(self._native.aov_images(), self.width, self.height)
+
     def save(self, path: PathLike) -> None:
         """Write the partial to ``path`` (an ``.lpart`` file), atomically."""
         self._native.save(os.fspath(path))

@@ -10,7 +10,7 @@ from typing import Any, Callable, Dict, Iterator, List, Optional, Tuple, Union
 
 import numpy as np
 
-from . import _image, _keypath, _native
+from . import _denoise, _image, _keypath, _native
 from ._errors import SceneError
 from ._progress import Progress, reporter
 
@@ -21,7 +21,9 @@ OBJECT_KINDS = ("sphere", "plane", "triangle", "quad", "disk", "cylinder", "mesh
 #: The light kinds of :meth:`Scene.add_light` and their tables.
 LIGHT_KINDS = {"point": "point_light", "spot": "spot_light", "directional": "directional_light"}
 #: Keyword arguments of a render that change the scene's own settings.
-_OVERRIDES = ("width", "height", "spp", "seed", "integrator", "sampler", "max_depth")
+_OVERRIDES = ("width", "height", "spp", "seed", "integrator", "sampler", "max_depth", "aovs", "filter_importance")
+#: The auxiliary images a render can return.
+AOVS = ("albedo", "normal", "position", "depth")
 #: The name under which a dict scene's text is given to the loader: it
 #: places relative paths in ``base_dir`` and never exists as a file.
 _DICT_NAME = "<scene dict>"
@@ -242,7 +244,7 @@ class Scene:
         key = tuple(overrides.get(k) for k in _OVERRIDES)
         if self._cache is not None and self._cache[0] == key:
             return self._cache[1]
-        ov = {k: v for k, v in zip(_OVERRIDES, key) if v is not None}
+        ov = {k: (list(v) if k == "aovs" else v) for k, v in zip(_OVERRIDES, key) if v is not None}
         if self._dict is None:
             assert self._path is not None
             extra = {"strict": self._strict, "env": self._env} if _is_pbrt(self._path) else {}
@@ -386,10 +388,27 @@ class Scene:
         integrator: Optional[str] = None,
         sampler: Optional[str] = None,
         max_depth: Optional[int] = None,
-    ) -> np.ndarray:
+        aovs: Optional[List[str]] = None,
+        denoise: bool = False,
+        denoise_quality: str = "default",
+        denoise_aux: str = "prefilter",
+    ) -> Any:
         """Render the scene; returns a ``(height, width, 3)`` float32 array
         of linear radiance: the values ``lucent render -o image.exr``
         writes, bit for bit, for the same scene and arguments.
+
+        With ``aovs`` (a list of ``"albedo"``, ``"normal"``, ``"position"``,
+        ``"depth"``; ``[]`` for none, ``None`` for the scene's ``aov``
+        list) it returns a dict instead: ``"color"`` and each auxiliary
+        image, ``(height, width, 3)`` arrays and ``(height, width)`` for
+        depth (see ``docs/denoising.md`` for what each holds).
+
+        ``denoise=True`` denoises the image with Intel Open Image Denoise
+        (see :func:`lucent.denoise`; ``denoise_quality`` and
+        ``denoise_aux`` are its ``quality`` and ``aux``), guided by albedo
+        and normal images rendered for it, with every sample placed in one
+        pixel (filter importance sampling), as ``lucent render --denoise``;
+        the dict then holds the ``"noisy"`` colour too.
 
         What is left out comes from the scene. ``spp`` is samples per pixel;
         ``time`` a time budget in seconds (as ``--time``: without ``spp``
@@ -405,7 +424,27 @@ class Scene:
         raises ``KeyboardInterrupt``. The figures of the render are kept in
         :attr:`last_report`.
         """
-        ov = dict(width=width, height=height, spp=spp, seed=seed, integrator=integrator, sampler=sampler, max_depth=max_depth)
+        _check_aovs(aovs)
+        if denoise_aux not in _denoise.AUX_MODES + ("none",):
+            raise ValueError(f"unknown denoise_aux {denoise_aux!r} (accepted: prefilter, clean, noisy, none)")
+        asked = aovs
+        render_aovs = aovs
+        if denoise:
+            if denoise_aux != "none":
+                base = list(aovs) if aovs is not None else None
+                # The scene's own list is kept too: render with both.
+                render_aovs = sorted(set(base or []) | {"albedo", "normal"}, key=AOVS.index)
+        ov = dict(
+            width=width,
+            height=height,
+            spp=spp,
+            seed=seed,
+            integrator=integrator,
+            sampler=sampler,
+            max_depth=max_depth,
+            aovs=None if render_aovs is None else tuple(render_aovs),
+            filter_importance=True if denoise else None,
+        )
         source = self._source(**ov)
         acc = source.accumulation()
         # With a time budget and no sample count, the budget alone decides
@@ -414,7 +453,25 @@ class Scene:
         with reporter(progress) as callback:
             report = source.render_into(acc, spp=target, threads=threads, time=time, progress=callback)
         self._finish(report)
-        return _image.from_bytes(acc.image(), acc.width, acc.height)
+        image = _image.from_bytes(acc.image(), acc.width, acc.height)
+        layers = _denoise.layers(acc.aov_images(), acc.width, acc.height)
+        if denoise:
+            from ._denoise import denoise as run_denoise
+
+            guide = denoise_aux if denoise_aux != "none" else "noisy"
+            albedo = layers.get("albedo") if denoise_aux != "none" else None
+            normal = layers.get("normal") if denoise_aux != "none" else None
+            clean = run_denoise(image, albedo, normal, quality=denoise_quality, aux=guide, threads=threads)
+            if asked is None:
+                return clean
+            out = {"color": clean, "noisy": image}
+            out.update({k: v for k, v in layers.items() if k in asked})
+            return out
+        if asked is None and not layers:
+            return image
+        out = {"color": image}
+        out.update(layers)
+        return out
 
     def render_progressive(
         self,
@@ -471,6 +528,8 @@ class Scene:
         integrator: Optional[str] = None,
         sampler: Optional[str] = None,
         max_depth: Optional[int] = None,
+        aovs: Optional[List[str]] = None,
+        filter_importance: Optional[bool] = None,
     ) -> "Partial":
         """Render only the samples ``start`` to ``end - 1`` of every pixel;
         returns a :class:`lucent.Partial` to add to the others (``p1 + p2``
@@ -479,8 +538,22 @@ class Scene:
         :meth:`render` (``spp`` is the full render's count, which the
         stratified sampler's sample layout depends on). With ``time``, the
         part may end early: its range is then ``start`` up to the last
-        sample finished."""
-        ov = dict(width=width, height=height, spp=spp, seed=seed, integrator=integrator, sampler=sampler, max_depth=max_depth)
+        sample finished. ``aovs`` adds auxiliary images to the part
+        (:meth:`Partial.aovs`), which merge exactly as the colour does;
+        ``filter_importance=True`` places each sample in one pixel, as
+        ``render(denoise=True)`` does (for parts to be denoised)."""
+        _check_aovs(aovs)
+        ov = dict(
+            width=width,
+            height=height,
+            spp=spp,
+            seed=seed,
+            integrator=integrator,
+            sampler=sampler,
+            max_depth=max_depth,
+            aovs=None if aovs is None else tuple(aovs),
+            filter_importance=filter_importance,
+        )
         source = self._source(**ov)
         with reporter(progress, "partial") as callback:
             native, report = source.render_partial(int(start), int(end), threads=threads, time=time, progress=callback)
@@ -488,6 +561,11 @@ class Scene:
         from ._partial import Partial
 
         return Partial(native)
+
+
+def _check_aovs(aovs: Any) -> None:
+    if aovs is not None and (isinstance(aovs, str) or any(a not in AOVS for a in aovs)):
+        raise ValueError(f"aovs must be a list of {', '.join(AOVS)}; got {aovs!r}")
 
 
 def _merge(table: dict, params: Dict[str, Any]) -> None:

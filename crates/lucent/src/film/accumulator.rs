@@ -1,7 +1,7 @@
 //! The film of progressive rendering: filter-weighted sums of samples per
 //! pixel, kept in fixed point so that they are exact.
 
-use super::{check_image_size, Film, FilmError};
+use super::{check_image_size, Aov, AovSet, Film, FilmError};
 use crate::color::Color;
 use std::sync::atomic::{AtomicI64, Ordering};
 
@@ -18,7 +18,10 @@ pub const MAX_CONTRIBUTION: f32 = (1u32 << 19) as f32;
 /// Per-pixel sums `Σ wᵢ·Lᵢ` and `Σ wᵢ` of the samples that reached a pixel,
 /// where `wᵢ` is the reconstruction filter evaluated at the sample's
 /// offset from the pixel centre (samples are "splatted" to every pixel
-/// whose filter covers them). The image is their ratio.
+/// whose filter covers them). The image is their ratio. A render with
+/// auxiliary images ([`AovSet`]) keeps `Σ wᵢ·aᵢ` of each of their
+/// channels too, after the colour's four sums: the same weights, so each
+/// layer is the same filtered average.
 ///
 /// The sums are fixed-point integers updated atomically. Integer addition
 /// is exact and associative, so the sums after `n` samples are
@@ -30,35 +33,47 @@ pub struct Accumulator {
     width: u32,
     height: u32,
     spp: u32,
-    sums: Vec<[AtomicI64; 4]>,
+    aovs: AovSet,
+    /// Sums per pixel: `4 + aovs.channel_count()`.
+    stride: usize,
+    sums: Vec<AtomicI64>,
 }
 
 impl Accumulator {
-    /// An empty accumulator; the size is checked and the memory reserved
-    /// fallibly.
+    /// An empty accumulator of colour only; the size is checked and the
+    /// memory reserved fallibly.
     pub fn new(width: u32, height: u32) -> Result<Self, FilmError> {
+        Self::with_aovs(width, height, AovSet::NONE)
+    }
+
+    /// An empty accumulator of colour and the auxiliary images `aovs`.
+    pub fn with_aovs(width: u32, height: u32, aovs: AovSet) -> Result<Self, FilmError> {
         check_image_size(width, height)?;
-        let n = width as usize * height as usize;
+        let stride = 4 + aovs.channel_count();
+        let n = width as usize * height as usize * stride;
         let mut sums = Vec::new();
         sums.try_reserve_exact(n).map_err(|_| FilmError::OutOfMemory(width, height))?;
         sums.resize_with(n, Default::default);
-        Ok(Self { width, height, spp: 0, sums })
+        Ok(Self { width, height, spp: 0, aovs, stride, sums })
     }
 
-    /// Rebuild from stored fixed-point sums (a checkpoint): one
-    /// `[Σw·r, Σw·g, Σw·b, Σw]` per pixel, row by row from the top.
-    pub fn from_raw(width: u32, height: u32, spp: u32, raw: &[[i64; 4]]) -> Result<Self, FilmError> {
+    /// Rebuild from stored fixed-point sums (a checkpoint): per pixel, row
+    /// by row from the top, `[Σw·r, Σw·g, Σw·b, Σw]` and then `Σw·a` of each
+    /// channel of `aovs`.
+    pub fn from_raw(width: u32, height: u32, spp: u32, aovs: AovSet, raw: &[i64]) -> Result<Self, FilmError> {
         check_image_size(width, height)?;
-        if raw.len() != width as usize * height as usize {
+        let stride = 4 + aovs.channel_count();
+        if raw.len() != width as usize * height as usize * stride {
             return Err(FilmError::Empty(width, height));
         }
-        let sums = raw.iter().map(|s| s.map(AtomicI64::new)).collect();
-        Ok(Self { width, height, spp, sums })
+        let sums = raw.iter().map(|&s| AtomicI64::new(s)).collect();
+        Ok(Self { width, height, spp, aovs, stride, sums })
     }
 
-    /// The fixed-point sums, row by row from the top.
-    pub fn raw(&self) -> Vec<[i64; 4]> {
-        self.sums.iter().map(|s| std::array::from_fn(|i| s[i].load(Ordering::Relaxed))).collect()
+    /// The fixed-point sums, laid out as [`from_raw`](Self::from_raw)
+    /// takes them.
+    pub fn raw(&self) -> Vec<i64> {
+        self.sums.iter().map(|s| s.load(Ordering::Relaxed)).collect()
     }
 
     /// Width in pixels.
@@ -69,6 +84,17 @@ impl Accumulator {
     /// Height in pixels.
     pub fn height(&self) -> u32 {
         self.height
+    }
+
+    /// The auxiliary images accumulated besides colour.
+    pub fn aovs(&self) -> AovSet {
+        self.aovs
+    }
+
+    /// Fixed-point sums per pixel: 4 for colour and weight, then one per
+    /// AOV channel.
+    pub fn stride(&self) -> usize {
+        self.stride
     }
 
     /// Samples taken in every pixel so far.
@@ -85,29 +111,114 @@ impl Accumulator {
     /// call from many threads at once.
     #[inline]
     pub fn splat(&self, x: u32, y: u32, l: Color, w: f32) {
-        self.add_fixed(x, y, fixed_contribution(l, w));
+        self.add_fixed(x, y, &fixed_contribution(l, w));
     }
 
-    /// Add fixed-point sums (of [`fixed_contribution`]s) to pixel `(x, y)`.
-    /// Integer addition is exact, so adding several samples' contributions
-    /// at once gives the same sums as splatting them one by one.
+    /// Add radiance `l` and the AOV channels `aux` (one value per channel
+    /// of [`aovs`](Self::aovs)) with filter weight `w` to pixel `(x, y)`.
     #[inline]
-    pub fn add_fixed(&self, x: u32, y: u32, sums: [i64; 4]) {
-        let s = &self.sums[y as usize * self.width as usize + x as usize];
-        for (sum, v) in s.iter().zip(sums) {
+    pub fn splat_with_aovs(&self, x: u32, y: u32, l: Color, aux: &[f32], w: f32) {
+        let s = self.pixel_sums(x, y);
+        for (sum, v) in s.iter().zip(fixed_contribution(l, w)) {
             sum.fetch_add(v, Ordering::Relaxed);
         }
+        for (sum, &a) in s[4..].iter().zip(aux) {
+            sum.fetch_add(fixed_value(a, w), Ordering::Relaxed);
+        }
+    }
+
+    /// Add fixed-point sums (of [`fixed_contribution`]s, and for the AOV
+    /// channels [`fixed_value`]s) to pixel `(x, y)`: the colour's four
+    /// first, then as many AOV channels as `sums` holds. Integer addition is
+    /// exact, so adding several samples' contributions at once gives the
+    /// same sums as splatting them one by one.
+    #[inline]
+    pub fn add_fixed(&self, x: u32, y: u32, sums: &[i64]) {
+        for (sum, &v) in self.pixel_sums(x, y).iter().zip(sums) {
+            sum.fetch_add(v, Ordering::Relaxed);
+        }
+    }
+
+    #[inline]
+    fn pixel_sums(&self, x: u32, y: u32) -> &[AtomicI64] {
+        let i = (y as usize * self.width as usize + x as usize) * self.stride;
+        &self.sums[i..i + self.stride]
+    }
+
+    /// The weighted means of every pixel, `stride − 1` values each (colour
+    /// then the AOV channels), 0 where no weight has been recorded.
+    fn means(&self) -> impl Iterator<Item = (f64, &[AtomicI64])> + '_ {
+        self.sums.chunks_exact(self.stride).map(|s| {
+            let w = s[3].load(Ordering::Relaxed) as f64;
+            (if w != 0.0 { 1.0 / w } else { 0.0 }, s)
+        })
     }
 
     /// The image so far: each pixel's weighted mean (black where no weight
     /// has been recorded).
     pub fn to_film(&self) -> Film {
         let mut film = Film::new(self.width, self.height).expect("size checked at construction");
-        for (out, s) in film.pixels_mut().iter_mut().zip(&self.sums) {
-            let [r, g, b, w] = std::array::from_fn(|i| s[i].load(Ordering::Relaxed) as f64);
-            *out = if w != 0.0 { Color::new((r / w) as f32, (g / w) as f32, (b / w) as f32) } else { Color::ZERO };
+        for (out, (inv_w, s)) in film.pixels_mut().iter_mut().zip(self.means()) {
+            let [r, g, b] = std::array::from_fn(|i| (s[i].load(Ordering::Relaxed) as f64 * inv_w) as f32);
+            *out = Color::new(r, g, b);
         }
         film
+    }
+
+    /// The auxiliary images so far: each pixel's weighted mean of every
+    /// AOV channel (0 where no weight has been recorded).
+    pub fn to_aov_images(&self) -> AovImages {
+        let channels = self.aovs.channel_count();
+        let mut values = Vec::with_capacity(self.width as usize * self.height as usize * channels);
+        for (inv_w, s) in self.means() {
+            values.extend(s[4..].iter().map(|v| (v.load(Ordering::Relaxed) as f64 * inv_w) as f32));
+        }
+        AovImages { width: self.width, height: self.height, aovs: self.aovs, values }
+    }
+}
+
+/// The auxiliary images of a render, pixel-interleaved: per pixel, row by
+/// row from the top, every channel of [`aovs`](Self::aovs) in storage
+/// order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AovImages {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// The images held.
+    pub aovs: AovSet,
+    /// The values, `aovs.channel_count()` per pixel.
+    pub values: Vec<f32>,
+}
+
+impl AovImages {
+    /// No auxiliary images, for a film of `width × height`.
+    pub fn none(width: u32, height: u32) -> Self {
+        AovImages { width, height, aovs: AovSet::NONE, values: Vec::new() }
+    }
+
+    /// Only the images of `keep` (those of them held).
+    pub fn select(&self, keep: AovSet) -> AovImages {
+        let aovs = AovSet::of(&self.aovs.iter().filter(|&a| keep.contains(a)).collect::<Vec<_>>());
+        let stride = self.aovs.channel_count();
+        let offsets: Vec<usize> = aovs
+            .iter()
+            .flat_map(|a| {
+                let o = self.aovs.offset(a).expect("held");
+                o..o + a.channels().len()
+            })
+            .collect();
+        let values = self.values.chunks_exact(stride.max(1)).flat_map(|p| offsets.iter().map(|&o| p[o])).collect();
+        AovImages { width: self.width, height: self.height, aovs, values }
+    }
+
+    /// The channels of `aov` (1 or 3 values per pixel), if held.
+    pub fn layer(&self, aov: Aov) -> Option<Vec<f32>> {
+        let offset = self.aovs.offset(aov)?;
+        let n = aov.channels().len();
+        let stride = self.aovs.channel_count();
+        Some(self.values.chunks_exact(stride).flat_map(|p| p[offset..offset + n].iter().copied()).collect())
     }
 }
 
@@ -118,6 +229,23 @@ impl Accumulator {
 pub fn fixed_contribution(l: Color, w: f32) -> [i64; 4] {
     let wl = (l * w).clamp(Color::splat(-MAX_CONTRIBUTION), Color::splat(MAX_CONTRIBUTION));
     [to_fixed(wl.x), to_fixed(wl.y), to_fixed(wl.z), to_fixed(w)]
+}
+
+/// What an AOV channel of value `a` with filter weight `w` adds: `w·a`
+/// clamped to ±[`MAX_CONTRIBUTION`] (non-finite values count as 0) and
+/// rounded to fixed point.
+#[inline]
+pub fn fixed_value(a: f32, w: f32) -> i64 {
+    to_fixed(clamp_contribution(a * w))
+}
+
+#[inline]
+fn clamp_contribution(v: f32) -> f32 {
+    if v.is_nan() {
+        0.0
+    } else {
+        v.clamp(-MAX_CONTRIBUTION, MAX_CONTRIBUTION)
+    }
 }
 
 /// Round to the nearest fixed-point unit.
@@ -133,13 +261,14 @@ fn to_fixed(v: f32) -> i64 {
 
 impl Clone for Accumulator {
     fn clone(&self) -> Self {
-        Self::from_raw(self.width, self.height, self.spp, &self.raw()).expect("same size")
+        Self::from_raw(self.width, self.height, self.spp, self.aovs, &self.raw()).expect("same size")
     }
 }
 
 impl PartialEq for Accumulator {
     fn eq(&self, other: &Self) -> bool {
-        (self.width, self.height, self.spp) == (other.width, other.height, other.spp) && self.raw() == other.raw()
+        (self.width, self.height, self.spp, self.aovs) == (other.width, other.height, other.spp, other.aovs)
+            && self.raw() == other.raw()
     }
 }
 

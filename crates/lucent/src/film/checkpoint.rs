@@ -7,22 +7,27 @@
 //! | bytes | content |
 //! |---|---|
 //! | 8 | magic `LUCENTCK` |
-//! | 4 | format version (1) |
+//! | 4 | format version (2) |
 //! | 4, 4 | width, height |
 //! | 4 | samples per pixel done |
 //! | 8 | fingerprint of everything that determines the samples |
-//! | 32 per pixel | `Σw·r, Σw·g, Σw·b, Σw` as i64 fixed point (see [`Accumulator`]) |
+//! | 4 | the auxiliary images held ([`AovSet::bits`]) |
+//! | 8 per sum | per pixel, `Σw·r, Σw·g, Σw·b, Σw` and `Σw·a` of each AOV channel, as i64 fixed point (see [`Accumulator`]) |
+//!
+//! Version 1 files (from lucent before AOVs: no AOV field, four sums per
+//! pixel) are read too.
 //!
 //! It is written to a temporary file beside the target and renamed into
 //! place, so a crash never leaves a truncated checkpoint.
 
-use super::{check_image_size, Accumulator};
+use super::{check_image_size, Accumulator, AovSet};
 use std::io::{Read, Write};
 use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"LUCENTCK";
-const VERSION: u32 = 1;
-const HEADER: usize = 8 + 4 + 4 + 4 + 4 + 8;
+const VERSION: u32 = 2;
+/// Bytes before the sums in version 1; version 2 adds 4.
+const HEADER_V1: usize = 8 + 4 + 4 + 4 + 4 + 8;
 
 /// Why a checkpoint cannot be written or used.
 #[derive(Debug, thiserror::Error)]
@@ -42,6 +47,18 @@ pub enum CheckpointError {
         path: String,
         /// What is wrong.
         message: String,
+    },
+    /// The checkpoint holds other auxiliary images than the render makes.
+    #[error(
+        "checkpoint {path} holds the auxiliary images {held}, but the render asks for {asked}; render with the same --aov, or without --resume"
+    )]
+    AovMismatch {
+        /// The file.
+        path: String,
+        /// The AOVs the checkpoint holds.
+        held: AovSet,
+        /// The AOVs the render makes.
+        asked: AovSet,
     },
     /// The checkpoint belongs to another render.
     #[error(
@@ -68,10 +85,9 @@ pub fn save_checkpoint(path: &Path, acc: &Accumulator, fingerprint: u64) -> Resu
             w.write_all(&v.to_le_bytes()).map_err(io)?;
         }
         w.write_all(&fingerprint.to_le_bytes()).map_err(io)?;
-        for s in acc.raw() {
-            for v in s {
-                w.write_all(&v.to_le_bytes()).map_err(io)?;
-            }
+        w.write_all(&acc.aovs().bits().to_le_bytes()).map_err(io)?;
+        for v in acc.raw() {
+            w.write_all(&v.to_le_bytes()).map_err(io)?;
         }
         w.flush().map_err(io)?;
     }
@@ -81,45 +97,62 @@ pub fn save_checkpoint(path: &Path, acc: &Accumulator, fingerprint: u64) -> Resu
 }
 
 /// Read a checkpoint, checking that it belongs to the render with
-/// `fingerprint` and size `width × height`.
-pub fn load_checkpoint(path: &Path, fingerprint: u64, width: u32, height: u32) -> Result<Accumulator, CheckpointError> {
+/// `fingerprint`, size `width × height` and auxiliary images `aovs`.
+pub fn load_checkpoint(
+    path: &Path,
+    fingerprint: u64,
+    width: u32,
+    height: u32,
+    aovs: AovSet,
+) -> Result<Accumulator, CheckpointError> {
     let name = path.display().to_string();
     let invalid = |m: &str| CheckpointError::Invalid { path: name.clone(), message: m.to_owned() };
     let mut f = std::fs::File::open(path).map_err(|e| CheckpointError::Io {
         path: name.clone(),
         message: format!("cannot open it: {}", e.kind().to_string().to_lowercase()),
     })?;
-    let mut header = [0u8; HEADER];
-    f.read_exact(&mut header).map_err(|_| invalid("too short to be a lucent checkpoint"))?;
+    let mut header = [0u8; HEADER_V1 + 4];
+    f.read_exact(&mut header[..HEADER_V1]).map_err(|_| invalid("too short to be a lucent checkpoint"))?;
     if &header[..8] != MAGIC {
         return Err(invalid("not a lucent checkpoint (wrong magic bytes)"));
     }
+    let version = u32::from_le_bytes(header[8..12].try_into().unwrap());
+    let header_len = match version {
+        1 => HEADER_V1,
+        2 => {
+            f.read_exact(&mut header[HEADER_V1..]).map_err(|_| invalid("too short to be a lucent checkpoint"))?;
+            HEADER_V1 + 4
+        }
+        _ => {
+            return Err(invalid(&format!(
+                "format version {version} is not supported (this lucent reads versions 1 and {VERSION})"
+            )))
+        }
+    };
     let u32_at = |i: usize| u32::from_le_bytes(header[i..i + 4].try_into().unwrap());
-    let version = u32_at(8);
-    if version != VERSION {
-        return Err(invalid(&format!("format version {version} is not supported (this lucent reads {VERSION})")));
-    }
     let (w, h, spp) = (u32_at(12), u32_at(16), u32_at(20));
     let stored = u64::from_le_bytes(header[24..32].try_into().unwrap());
     if stored != fingerprint || w != width || h != height {
         return Err(CheckpointError::Mismatch { path: name });
     }
+    let held = if version == 1 { 0 } else { u32_at(HEADER_V1) };
+    let held = AovSet::from_bits(held).ok_or_else(|| invalid(&format!("unknown auxiliary images (bits {held:#x})")))?;
+    if held != aovs {
+        return Err(CheckpointError::AovMismatch { path: name, held, asked: aovs });
+    }
     check_image_size(w, h).map_err(|e| invalid(&e.to_string()))?;
-    let n = w as usize * h as usize;
-    let expected = (n * 32) as u64;
-    let actual = f.metadata().map(|m| m.len()).unwrap_or(0).saturating_sub(HEADER as u64);
+    let sums_len = w as usize * h as usize * (4 + aovs.channel_count());
+    let expected = (sums_len * 8) as u64;
+    let actual = f.metadata().map(|m| m.len()).unwrap_or(0).saturating_sub(header_len as u64);
     if actual != expected {
         return Err(invalid(&format!("truncated or padded: {actual} bytes of pixel data, expected {expected}")));
     }
     let mut bytes = Vec::new();
-    bytes.try_reserve_exact(n * 32).map_err(|_| invalid("not enough memory to read it"))?;
-    bytes.resize(n * 32, 0);
+    bytes.try_reserve_exact(sums_len * 8).map_err(|_| invalid("not enough memory to read it"))?;
+    bytes.resize(sums_len * 8, 0);
     f.read_exact(&mut bytes).map_err(|_| invalid("truncated pixel data"))?;
-    let sums: Vec<[i64; 4]> = bytes
-        .chunks_exact(32)
-        .map(|c| std::array::from_fn(|i| i64::from_le_bytes(c[i * 8..i * 8 + 8].try_into().unwrap())))
-        .collect();
-    Accumulator::from_raw(w, h, spp, &sums).map_err(|e| invalid(&e.to_string()))
+    let sums: Vec<i64> = bytes.chunks_exact(8).map(|c| i64::from_le_bytes(c.try_into().unwrap())).collect();
+    Accumulator::from_raw(w, h, spp, aovs, &sums).map_err(|e| invalid(&e.to_string()))
 }
 
 #[cfg(test)]
@@ -134,15 +167,34 @@ mod tests {
         acc.splat(1, 1, crate::color::Color::new(1.5, -0.0, 1e5), 0.5);
         acc.add_spp(9);
         save_checkpoint(&path, &acc, 42).unwrap();
-        assert_eq!(load_checkpoint(&path, 42, 3, 2).unwrap(), acc);
-        assert!(matches!(load_checkpoint(&path, 43, 3, 2), Err(CheckpointError::Mismatch { .. })));
-        assert!(matches!(load_checkpoint(&path, 42, 2, 3), Err(CheckpointError::Mismatch { .. })));
+        let none = AovSet::NONE;
+        assert_eq!(load_checkpoint(&path, 42, 3, 2, none).unwrap(), acc);
+        assert!(matches!(load_checkpoint(&path, 43, 3, 2, none), Err(CheckpointError::Mismatch { .. })));
+        assert!(matches!(load_checkpoint(&path, 42, 2, 3, none), Err(CheckpointError::Mismatch { .. })));
+        let depth = AovSet::of(&[crate::film::Aov::Depth]);
+        let e = load_checkpoint(&path, 42, 3, 2, depth).unwrap_err();
+        assert!(matches!(e, CheckpointError::AovMismatch { .. }), "{e}");
+        assert!(e.to_string().contains("holds the auxiliary images none, but the render asks for depth"), "{e}");
+        // A version 1 file (before AOVs): no AOV field.
+        let bytes = std::fs::read(&path).unwrap();
+        let mut v1 = bytes[..HEADER_V1].to_vec();
+        v1[8..12].copy_from_slice(&1u32.to_le_bytes());
+        v1.extend_from_slice(&bytes[HEADER_V1 + 4..]);
+        std::fs::write(&path, &v1).unwrap();
+        assert_eq!(load_checkpoint(&path, 42, 3, 2, none).unwrap(), acc);
+        // AOV sums round-trip.
+        let mut with_depth = Accumulator::with_aovs(3, 2, depth).unwrap();
+        with_depth.splat_with_aovs(2, 0, crate::color::Color::splat(0.5), &[3.25], 0.75);
+        with_depth.add_spp(4);
+        save_checkpoint(&path, &with_depth, 42).unwrap();
+        assert_eq!(load_checkpoint(&path, 42, 3, 2, depth).unwrap(), with_depth);
+        save_checkpoint(&path, &acc, 42).unwrap();
         let bytes = std::fs::read(&path).unwrap();
         std::fs::write(&path, &bytes[..bytes.len() - 1]).unwrap();
-        assert!(load_checkpoint(&path, 42, 3, 2).unwrap_err().to_string().contains("truncated"));
+        assert!(load_checkpoint(&path, 42, 3, 2, none).unwrap_err().to_string().contains("truncated"));
         std::fs::write(&path, b"PNG....").unwrap();
-        assert!(load_checkpoint(&path, 42, 3, 2).unwrap_err().to_string().contains("too short"));
-        assert!(load_checkpoint(&dir.path().join("missing"), 42, 3, 2)
+        assert!(load_checkpoint(&path, 42, 3, 2, none).unwrap_err().to_string().contains("too short"));
+        assert!(load_checkpoint(&dir.path().join("missing"), 42, 3, 2, none)
             .unwrap_err()
             .to_string()
             .contains("cannot open"));

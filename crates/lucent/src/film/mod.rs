@@ -2,7 +2,9 @@
 //! to display values and files.
 
 mod accumulator;
+mod aov;
 mod checkpoint;
+pub mod exr_layers;
 mod filter;
 mod output;
 mod partial;
@@ -10,7 +12,8 @@ mod sensor;
 mod splat;
 mod tonemap;
 
-pub use accumulator::{fixed_contribution, Accumulator, FIXED_POINT_SCALE, MAX_CONTRIBUTION};
+pub use accumulator::{fixed_contribution, fixed_value, Accumulator, AovImages, FIXED_POINT_SCALE, MAX_CONTRIBUTION};
+pub use aov::{Aov, AovSample, AovSet, UnknownAov};
 pub use checkpoint::{load_checkpoint, save_checkpoint, CheckpointError};
 pub use filter::{Filter, Filter1d, FilterError, FilterSample, FilterSampler, TABLE_SEGMENTS};
 pub use output::{ImageFormat, OutputError, PendingImage};

@@ -1,4 +1,4 @@
-use super::{Film, ToneMap};
+use super::{AovImages, Film, ToneMap};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
@@ -33,6 +33,22 @@ pub enum OutputError {
         path: PathBuf,
         /// The cause.
         source: std::io::Error,
+    },
+    /// Auxiliary images asked for an output that cannot hold them.
+    #[error("cannot write auxiliary images ({aovs}) to '{path}': only OpenEXR (.exr) holds them, as layers beside the colour")]
+    AovsNeedExr {
+        /// The output path.
+        path: PathBuf,
+        /// The AOVs, by name.
+        aovs: String,
+    },
+    /// The OpenEXR encoder failed.
+    #[error("cannot encode '{path}': {message}")]
+    Exr {
+        /// The output path.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
     },
     /// The encoder failed.
     #[error("cannot encode '{path}': {source}")]
@@ -128,7 +144,46 @@ impl PendingImage {
 
     /// Encode `film` and move it into place (`tone_map` and `srgb` apply
     /// to the 8-bit formats only).
-    pub fn write(mut self, film: &Film, tone_map: ToneMap, srgb: bool) -> Result<(), OutputError> {
+    pub fn write(self, film: &Film, tone_map: ToneMap, srgb: bool) -> Result<(), OutputError> {
+        let none = AovImages::none(film.width(), film.height());
+        self.write_with_aovs(film, &none, tone_map, srgb)
+    }
+
+    /// Check that this output can hold `aovs` (only OpenEXR can): call it
+    /// before rendering, so that a render is not spent on an image that
+    /// cannot be written.
+    pub fn check_aovs(&self, aovs: super::AovSet) -> Result<(), OutputError> {
+        if !aovs.is_empty() && self.format != ImageFormat::Exr {
+            return Err(OutputError::AovsNeedExr { path: self.path.clone(), aovs: aovs.to_string() });
+        }
+        Ok(())
+    }
+
+    /// [`write`](Self::write) with auxiliary images, as EXR channels beside
+    /// `R`, `G`, `B` (named as [`Aov::channels`](super::Aov::channels) says).
+    /// Only an `.exr` output takes them; with no AOVs this is `write`.
+    pub fn write_with_aovs(
+        self,
+        film: &Film,
+        aovs: &AovImages,
+        tone_map: ToneMap,
+        srgb: bool,
+    ) -> Result<(), OutputError> {
+        self.write_layers(film, None, aovs, tone_map, srgb)
+    }
+
+    /// [`write_with_aovs`](Self::write_with_aovs) of a denoised image: an
+    /// `.exr` output keeps the colour before denoising, `noisy`, as
+    /// `Noisy.R/G/B` (other formats get `film` alone).
+    pub fn write_layers(
+        mut self,
+        film: &Film,
+        noisy: Option<&Film>,
+        aovs: &AovImages,
+        tone_map: ToneMap,
+        srgb: bool,
+    ) -> Result<(), OutputError> {
+        self.check_aovs(aovs.aovs)?;
         let (w, h) = (film.width(), film.height());
         let path = self.path.clone();
         let encode = |source| OutputError::Encode { path: path.clone(), source };
@@ -142,6 +197,10 @@ impl PendingImage {
                     let fmt =
                         if self.format == ImageFormat::Png { image::ImageFormat::Png } else { image::ImageFormat::Bmp };
                     image::DynamicImage::ImageRgb8(buf).write_to(&mut out, fmt).map_err(encode)?;
+                }
+                ImageFormat::Exr if !aovs.aovs.is_empty() || noisy.is_some() => {
+                    super::exr_layers::write(&mut out, film, noisy, aovs)
+                        .map_err(|e| OutputError::Exr { path: path.clone(), message: e.to_string() })?;
                 }
                 ImageFormat::Exr => {
                     let data: Vec<f32> = film.pixels().iter().flat_map(|c| c.to_array()).collect();

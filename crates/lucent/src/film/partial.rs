@@ -9,7 +9,7 @@
 //! merged image is bit-identical to a single render, whatever the order or
 //! grouping of the merge.
 //!
-//! # The `.lpart` file (version 1)
+//! # The `.lpart` file (version 2)
 //!
 //! Little-endian binary:
 //!
@@ -20,24 +20,30 @@
 //! | 4, 4 | width, height |
 //! | 8 | fingerprint of the scene and settings (the loader's `SceneSource::fingerprint`) |
 //! | 4, 4 | tone mapping (0 classic, 1 clamp, 2 Reinhard, 3 ACES) and sRGB (0 or 1) for 8-bit output |
+//! | 4 | the auxiliary images held ([`AovSet::bits`]) |
 //! | 4 | number of sample ranges `n` (at least 1) |
 //! | 8·n | the ranges, `start` and `end` (exclusive) as u32, sorted, non-empty, neither overlapping nor touching |
-//! | 32 per pixel | `Σw·r, Σw·g, Σw·b, Σw` as i64 fixed point, row by row from the top |
+//! | 8 per sum | per pixel, row by row from the top, `Σw·r, Σw·g, Σw·b, Σw` and `Σw·a` of each AOV channel, as i64 fixed point |
 //! | 8 | checksum: 64-bit FNV-1a of every byte before it |
+//!
+//! Version 1 (lucent before AOVs) lacks the AOV field and holds four sums
+//! per pixel; it is read too.
 //!
 //! Writing goes to a temporary file beside the target, renamed into place
 //! when complete, so a crash never leaves a truncated part.
 
-use super::{check_image_size, Accumulator, Film, ToneMap};
+use super::{check_image_size, Accumulator, AovImages, AovSet, Film, ToneMap};
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::ops::Range;
 use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"LUCENTPT";
-const VERSION: u32 = 1;
-/// Bytes before the ranges: magic, version, size, fingerprint, display, count.
-const HEADER: usize = 8 + 4 + 8 + 8 + 8 + 4;
+const VERSION: u32 = 2;
+/// Bytes before the ranges: magic, version, size, fingerprint, display,
+/// AOVs, count (version 1 has no AOVs: 4 bytes fewer).
+const HEADER: usize = 8 + 4 + 8 + 8 + 8 + 4 + 4;
+const HEADER_V1: usize = HEADER - 4;
 
 /// Why a partial film cannot be read, written or merged.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -81,8 +87,10 @@ pub struct PartialFilm {
     fingerprint: u64,
     tone_map: ToneMap,
     srgb: bool,
+    aovs: AovSet,
     ranges: Vec<Range<u32>>,
-    sums: Vec<[i64; 4]>,
+    /// Per pixel: the colour's four sums and one per AOV channel.
+    sums: Vec<i64>,
 }
 
 impl PartialFilm {
@@ -119,6 +127,7 @@ impl PartialFilm {
             fingerprint,
             tone_map,
             srgb,
+            aovs: acc.aovs(),
             ranges: vec![samples],
             sums: acc.raw(),
         })
@@ -149,6 +158,11 @@ impl PartialFilm {
         self.srgb
     }
 
+    /// The auxiliary images held besides colour.
+    pub fn aovs(&self) -> AovSet {
+        self.aovs
+    }
+
     /// The sample indices held, as sorted, disjoint, non-adjacent ranges.
     pub fn ranges(&self) -> &[Range<u32>] {
         &self.ranges
@@ -176,12 +190,18 @@ impl PartialFilm {
 
     /// The sums as an accumulator holding [`spp`](Self::spp) samples.
     pub fn to_accumulator(&self) -> Accumulator {
-        Accumulator::from_raw(self.width, self.height, self.spp(), &self.sums).expect("size checked on creation")
+        Accumulator::from_raw(self.width, self.height, self.spp(), self.aovs, &self.sums)
+            .expect("size checked on creation")
     }
 
     /// The image of the samples held: each pixel's weighted mean.
     pub fn to_film(&self) -> Film {
         self.to_accumulator().to_film()
+    }
+
+    /// The auxiliary images of the samples held.
+    pub fn to_aov_images(&self) -> AovImages {
+        self.to_accumulator().to_aov_images()
     }
 
     /// The sum of two parts of the same render: refused if they come from
@@ -199,6 +219,12 @@ impl PartialFilm {
                 self.fingerprint, other.fingerprint
             )));
         }
+        if self.aovs != other.aovs {
+            return Err(PartialError::DifferentRenders(format!(
+                "the parts come from different renders: one holds the auxiliary images {}, the other {} (render every part with the same --aov)",
+                self.aovs, other.aovs
+            )));
+        }
         let mut ranges: Vec<Range<u32>> = self.ranges.iter().chain(&other.ranges).cloned().collect();
         ranges.sort_by_key(|r| r.start);
         for pair in ranges.windows(2) {
@@ -209,14 +235,12 @@ impl PartialFilm {
                 )));
             }
         }
-        let mut sums = Vec::with_capacity(self.sums.len());
-        for (a, b) in self.sums.iter().zip(&other.sums) {
-            let mut s = [0i64; 4];
-            for i in 0..4 {
-                s[i] = a[i].checked_add(b[i]).ok_or(PartialError::Overflow)?;
-            }
-            sums.push(s);
-        }
+        let sums = self
+            .sums
+            .iter()
+            .zip(&other.sums)
+            .map(|(a, b)| a.checked_add(*b).ok_or(PartialError::Overflow))
+            .collect::<Result<Vec<i64>, _>>()?;
         Ok(PartialFilm { ranges: coalesce(ranges), sums, ..self.clone_header() })
     }
 
@@ -229,23 +253,21 @@ impl PartialFilm {
 
     /// The file's bytes (laid out as the documentation of `film::partial` describes).
     pub fn to_bytes(&self) -> Vec<u8> {
-        let mut out = Vec::with_capacity(HEADER + 8 * self.ranges.len() + 32 * self.sums.len() + 8);
+        let mut out = Vec::with_capacity(HEADER + 8 * self.ranges.len() + 8 * self.sums.len() + 8);
         out.extend_from_slice(MAGIC);
         for v in [VERSION, self.width, self.height] {
             out.extend_from_slice(&v.to_le_bytes());
         }
         out.extend_from_slice(&self.fingerprint.to_le_bytes());
-        for v in [tone_map_code(self.tone_map), self.srgb as u32, self.ranges.len() as u32] {
+        for v in [tone_map_code(self.tone_map), self.srgb as u32, self.aovs.bits(), self.ranges.len() as u32] {
             out.extend_from_slice(&v.to_le_bytes());
         }
         for r in &self.ranges {
             out.extend_from_slice(&r.start.to_le_bytes());
             out.extend_from_slice(&r.end.to_le_bytes());
         }
-        for s in &self.sums {
-            for v in s {
-                out.extend_from_slice(&v.to_le_bytes());
-            }
+        for v in &self.sums {
+            out.extend_from_slice(&v.to_le_bytes());
         }
         let checksum = fnv1a(&out);
         out.extend_from_slice(&checksum.to_le_bytes());
@@ -255,7 +277,7 @@ impl PartialFilm {
     /// Read a part from its bytes; `name` (a file name) is used in errors.
     pub fn from_bytes(bytes: &[u8], name: &str) -> Result<PartialFilm, PartialError> {
         let damaged = |m: String| PartialError::Damaged { name: name.to_owned(), message: m };
-        if bytes.len() < HEADER + 8 {
+        if bytes.len() < HEADER_V1 + 8 {
             return Err(damaged("too short to be a lucent partial render (.lpart)".into()));
         }
         if &bytes[..8] != MAGIC {
@@ -263,9 +285,16 @@ impl PartialFilm {
         }
         let u32_at = |i: usize| u32::from_le_bytes(bytes[i..i + 4].try_into().unwrap());
         let version = u32_at(8);
-        if version != VERSION {
-            return Err(damaged(format!("format version {version} is not supported (this lucent reads {VERSION})")));
-        }
+        let header = match version {
+            1 => HEADER_V1,
+            2 if bytes.len() >= HEADER + 8 => HEADER,
+            2 => return Err(damaged("too short to be a lucent partial render (.lpart)".into())),
+            _ => {
+                return Err(damaged(format!(
+                    "format version {version} is not supported (this lucent reads versions 1 and {VERSION})"
+                )))
+            }
+        };
         let (split, stored) = bytes.split_at(bytes.len() - 8);
         if fnv1a(split) != u64::from_le_bytes(stored.try_into().unwrap()) {
             return Err(damaged("the checksum does not match: the file is damaged or truncated".into()));
@@ -279,16 +308,19 @@ impl PartialFilm {
             1 => true,
             v => return Err(damaged(format!("sRGB flag {v} is neither 0 nor 1"))),
         };
-        let n = u32_at(36) as usize;
-        let pixels = width as usize * height as usize;
-        let expected = (HEADER as u64) + 8 * n as u64 + 32 * pixels as u64 + 8;
+        let aovs = if version == 1 { 0 } else { u32_at(36) };
+        let aovs =
+            AovSet::from_bits(aovs).ok_or_else(|| damaged(format!("unknown auxiliary images (bits {aovs:#x})")))?;
+        let n = u32_at(header - 4) as usize;
+        let sums_len = width as usize * height as usize * (4 + aovs.channel_count());
+        let expected = (header as u64) + 8 * n as u64 + 8 * sums_len as u64 + 8;
         if bytes.len() as u64 != expected {
             return Err(damaged(format!("{} bytes, expected {expected} for its header", bytes.len())));
         }
         if n == 0 {
             return Err(damaged("it holds no sample range".into()));
         }
-        let ranges: Vec<Range<u32>> = (0..n).map(|i| u32_at(HEADER + 8 * i)..u32_at(HEADER + 8 * i + 4)).collect();
+        let ranges: Vec<Range<u32>> = (0..n).map(|i| u32_at(header + 8 * i)..u32_at(header + 8 * i + 4)).collect();
         let mut previous_end = None;
         for r in &ranges {
             if r.start >= r.end || previous_end.is_some_and(|e| r.start <= e) {
@@ -296,12 +328,12 @@ impl PartialFilm {
             }
             previous_end = Some(r.end);
         }
-        let start = HEADER + 8 * n;
-        let sums = bytes[start..start + 32 * pixels]
-            .chunks_exact(32)
-            .map(|c| std::array::from_fn(|i| i64::from_le_bytes(c[i * 8..i * 8 + 8].try_into().unwrap())))
+        let start = header + 8 * n;
+        let sums = bytes[start..start + 8 * sums_len]
+            .chunks_exact(8)
+            .map(|c| i64::from_le_bytes(c.try_into().unwrap()))
             .collect();
-        Ok(PartialFilm { width, height, fingerprint, tone_map, srgb, ranges, sums })
+        Ok(PartialFilm { width, height, fingerprint, tone_map, srgb, aovs, ranges, sums })
     }
 
     /// Write the part to `path` atomically (a temporary file renamed into
@@ -459,6 +491,33 @@ mod tests {
         assert!(e.to_string().contains("checksum"), "{e}");
         let e = PartialFilm::from_bytes(b"LUCENTCK\x01\0\0\0", "x").unwrap_err();
         assert!(e.to_string().contains("too short"), "{e}");
+    }
+
+    /// Version 1 files (before AOVs) are still read; parts with AOVs
+    /// round-trip and merge only with parts of the same AOVs.
+    #[test]
+    fn version_1_files_and_aov_sums() {
+        let p = part(0..2, 9, 0.3);
+        let v2 = p.to_bytes();
+        let mut v1 = v2[..36].to_vec();
+        v1[8..12].copy_from_slice(&1u32.to_le_bytes());
+        v1.extend_from_slice(&v2[40..v2.len() - 8]);
+        let checksum = fnv1a(&v1);
+        v1.extend_from_slice(&checksum.to_le_bytes());
+        assert_eq!(PartialFilm::from_bytes(&v1, "old.lpart").unwrap(), p);
+
+        let aovs = AovSet::of(&[crate::film::Aov::Normal]);
+        let with_aovs = |range: Range<u32>, n: f32| {
+            let acc = Accumulator::with_aovs(2, 1, aovs).unwrap();
+            acc.splat_with_aovs(1, 0, Color::splat(2.0), &[0.0, n, 1.0], 0.5);
+            PartialFilm::new(&acc, range, 9, ToneMap::Reinhard, false).unwrap()
+        };
+        let (a, b) = (with_aovs(0..1, 0.25), with_aovs(1..2, -0.75));
+        let ab = a.merge(&b).unwrap();
+        assert_eq!(PartialFilm::from_bytes(&ab.to_bytes(), "n.lpart").unwrap(), ab);
+        assert_eq!(ab.to_aov_images().layer(crate::film::Aov::Normal).unwrap()[3..], [0.0, -0.25, 1.0]);
+        let e = a.merge(&part(1..2, 9, 1.0)).unwrap_err();
+        assert!(e.to_string().contains("one holds the auxiliary images normal, the other none"), "{e}");
     }
 
     #[test]

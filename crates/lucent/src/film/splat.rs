@@ -12,15 +12,16 @@
 //! time), and the atomic additions, which serialise the core, come once per
 //! pixel of the band and row instead of once per sample and pixel.
 
-use super::{fixed_contribution, Accumulator, Filter, Filter1d};
+use super::{fixed_contribution, fixed_value, Accumulator, Filter, Filter1d};
 use crate::color::Color;
 use crate::geometry::Vec2;
 
 /// How many rows above and below its own a band holds.
 pub const MAX_BAND_REACH: i64 = 16;
 
-/// A band of rows of fixed-point sums `[Σw·r, Σw·g, Σw·b, Σw]`: the share
-/// of one image row's samples in every pixel they reach.
+/// A band of rows of fixed-point sums `[Σw·r, Σw·g, Σw·b, Σw]` (and
+/// `Σw·a` of each AOV channel, laid out as the [`Accumulator`]'s): the
+/// share of one image row's samples in every pixel they reach.
 #[derive(Clone, Debug)]
 pub struct SplatBand {
     /// The filter's 1D factor.
@@ -37,7 +38,9 @@ pub struct SplatBand {
     /// Offset (from `y`) of the band's first row; it has `rows` rows.
     first: i64,
     rows: usize,
-    sums: Vec<[i64; 4]>,
+    /// Sums per pixel: 4 and the AOV channels.
+    stride: usize,
+    sums: Vec<i64>,
     /// The filter's factors of the current sample's footprint columns and
     /// rows.
     wx: Vec<f32>,
@@ -45,7 +48,9 @@ pub struct SplatBand {
 }
 
 impl SplatBand {
-    /// An empty band for an image `width` × `height` under `filter`.
+    /// An empty band for an image `width` × `height` under `filter`, of
+    /// `stride` sums per pixel (the accumulator's
+    /// [`stride`](Accumulator::stride)).
     ///
     /// A sample at `y + u` (with `0 ≤ u < 1`) reaches the rows `y + k` whose
     /// centres `k + ½` lie within the radius `r`: `u − ½ − r < k ≤ u − ½ + r`,
@@ -53,7 +58,7 @@ impl SplatBand {
     /// against rounding). The band holds at most [`MAX_BAND_REACH`] rows
     /// each side; the rare filter that reaches further adds its far rows
     /// straight to the accumulator.
-    pub fn new(filter: &Filter, width: u32, height: u32) -> Self {
+    pub fn new(filter: &Filter, width: u32, height: u32, stride: usize) -> Self {
         let radius = filter.radius();
         let first = ((-0.5 - radius).floor() as i64).max(-MAX_BAND_REACH);
         let last = ((radius + 0.5).ceil() as i64).min(MAX_BAND_REACH);
@@ -67,7 +72,8 @@ impl SplatBand {
             y: 0,
             first,
             rows,
-            sums: vec![[0; 4]; rows * width as usize],
+            stride,
+            sums: vec![0; rows * width as usize * stride],
             // A footprint spans at most 2r + 1 columns and rows (and no
             // more than the image).
             wx: vec![0.0; ((2.0 * radius).ceil() as usize).saturating_add(2).min(width as usize)],
@@ -78,23 +84,32 @@ impl SplatBand {
     /// Empty the band for the samples of row `y`.
     pub fn start_row(&mut self, y: u32) {
         self.y = y;
-        self.sums.fill([0; 4]);
+        self.sums.fill(0);
     }
 
-    /// The sums of pixel `px` in the band's row `y + k`.
+    /// Add the sample's contribution with filter weight `w` to the sums of
+    /// pixel `px` in the band's row `y + k`.
     #[inline]
-    fn at(&mut self, k: i64, px: usize) -> &mut [i64; 4] {
+    fn add_at(&mut self, k: i64, px: usize, l: Color, aux: &[f32], w: f32) {
         let row = (k - self.first) as usize;
         debug_assert!(row < self.rows, "footprint row {k} outside the band");
-        &mut self.sums[row * self.width as usize + px]
+        let i = (row * self.width as usize + px) * self.stride;
+        let sums = &mut self.sums[i..i + self.stride];
+        for (s, c) in sums.iter_mut().zip(fixed_contribution(l, w)) {
+            *s += c;
+        }
+        for (s, &a) in sums[4..].iter_mut().zip(aux) {
+            *s += fixed_value(a, w);
+        }
     }
 
     /// Add a sample of radiance `l` at `u` (in `[0, 1)²`) within pixel
     /// `(x, y)` of the band's row to every pixel it reaches (in `acc`
-    /// directly for rows beyond the band).
-    pub fn add(&mut self, x: u32, u: Vec2, l: Color, acc: &Accumulator) {
+    /// directly for rows beyond the band), with its AOV channels `aux`
+    /// (empty without AOVs).
+    pub fn add(&mut self, x: u32, u: Vec2, l: Color, aux: &[f32], acc: &Accumulator) {
         if self.pixel_box {
-            add(self.at(0, x as usize), fixed_contribution(l, 1.0));
+            self.add_at(0, x as usize, l, aux, 1.0);
             return;
         }
         // The footprint: offsets k with u − ½ − r < k ≤ u − ½ + r. The
@@ -108,7 +123,7 @@ impl SplatBand {
             let offset = Vec2::splat(0.5) - u;
             let weight = self.filter.evaluate(offset.x) * self.filter.evaluate(offset.y);
             if weight != 0.0 {
-                add(self.at(0, x as usize), fixed_contribution(l, weight));
+                self.add_at(0, x as usize, l, aux, weight);
             }
             return;
         }
@@ -136,46 +151,50 @@ impl SplatBand {
                 }
                 let px = (x + kx) as usize;
                 if in_band {
-                    add(self.at(ky, px), fixed_contribution(l, weight));
+                    self.add_at(ky, px, l, aux, weight);
                 } else {
-                    acc.splat(px as u32, (y + ky) as u32, l, weight);
+                    acc.splat_with_aovs(px as u32, (y + ky) as u32, l, aux, weight);
                 }
             }
         }
+    }
+
+    /// Add a sample of radiance `l` (and AOV channels `aux`) to its own
+    /// pixel `x` of the band's row alone, with weight `w`: a sample placed
+    /// by filter importance sampling.
+    pub fn add_own(&mut self, x: u32, l: Color, aux: &[f32], w: f32) {
+        self.add_at(0, x as usize, l, aux, w);
     }
 
     /// Add the band's sums to `acc`, pixels of the image only.
     pub fn flush(&self, acc: &Accumulator) {
         let w = self.width as usize;
-        for (row, sums) in self.sums.chunks_exact(w).enumerate() {
+        for (row, sums) in self.sums.chunks_exact(w * self.stride).enumerate() {
             let py = self.y as i64 + self.first + row as i64;
             if py < 0 || py >= self.height as i64 {
                 continue;
             }
-            for (px, s) in sums.iter().enumerate() {
-                if *s != [0; 4] {
-                    acc.add_fixed(px as u32, py as u32, *s);
+            for (px, s) in sums.chunks_exact(self.stride).enumerate() {
+                // Every sample adds its weight (to `s[3]`, or its colour
+                // where the weight rounds to 0), so a pixel no sample
+                // reached is all zeros.
+                if s.iter().any(|&v| v != 0) {
+                    acc.add_fixed(px as u32, py as u32, s);
                 }
             }
         }
-    }
-}
-
-#[inline]
-fn add(sum: &mut [i64; 4], c: [i64; 4]) {
-    for (s, c) in sum.iter_mut().zip(c) {
-        *s += c;
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::film::{Aov, AovSet};
     use crate::sampling::Pcg32;
 
     /// Splatting every sample straight into the accumulator, pixel by
     /// pixel with `Filter::evaluate`, as the renderer did before bands.
-    fn splat_directly(acc: &Accumulator, filter: &Filter, x: u32, y: u32, u: Vec2, l: Color) {
+    fn splat_directly(acc: &Accumulator, filter: &Filter, x: u32, y: u32, u: Vec2, l: Color, aux: &[f32]) {
         let r = filter.radius();
         let k_lo = (u - Vec2::splat(0.5 + r)).floor() + Vec2::ONE;
         let k_hi = (u + Vec2::splat(r - 0.5)).floor();
@@ -187,7 +206,7 @@ mod tests {
                 }
                 let weight = filter.evaluate(Vec2::new(kx as f32 + 0.5 - u.x, ky as f32 + 0.5 - u.y));
                 if weight != 0.0 {
-                    acc.splat(px as u32, py as u32, l, weight);
+                    acc.splat_with_aovs(px as u32, py as u32, l, aux, weight);
                 }
             }
         }
@@ -210,10 +229,11 @@ mod tests {
             Filter::Gaussian { radius: 20.0, sigma: 8.0 },
         ];
         let (w, h) = (7, 40);
-        for filter in filters {
-            let direct = Accumulator::new(w, h).unwrap();
-            let banded = Accumulator::new(w, h).unwrap();
-            let mut band = SplatBand::new(&filter, w, h);
+        let aovs = [AovSet::NONE, AovSet::of(&[Aov::Albedo, Aov::Depth])];
+        for (filter, aovs) in filters.iter().flat_map(|f| aovs.map(|a| (f, a))) {
+            let direct = Accumulator::with_aovs(w, h, aovs).unwrap();
+            let banded = Accumulator::with_aovs(w, h, aovs).unwrap();
+            let mut band = SplatBand::new(filter, w, h, banded.stride());
             let mut rng = Pcg32::new(3, 1);
             for y in 0..h {
                 band.start_row(y);
@@ -221,13 +241,14 @@ mod tests {
                     for _ in 0..6 {
                         let u = Vec2::new(rng.uniform(), rng.uniform());
                         let l = Color::new(rng.uniform(), 2.0 * rng.uniform(), 0.5);
-                        splat_directly(&direct, &filter, x, y, u, l);
-                        band.add(x, u, l, &banded);
+                        let aux: Vec<f32> = (0..aovs.channel_count()).map(|_| 10.0 * rng.uniform() - 2.0).collect();
+                        splat_directly(&direct, filter, x, y, u, l, &aux);
+                        band.add(x, u, l, &aux, &banded);
                     }
                 }
                 band.flush(&banded);
             }
-            assert!(direct.raw().iter().any(|s| *s != [0; 4]));
+            assert!(direct.raw().iter().any(|&s| s != 0));
             assert_eq!(direct.raw(), banded.raw(), "{filter:?}");
         }
     }

@@ -5,9 +5,11 @@
 //! [`PathIntegrator`] (global illumination with multiple importance
 //! sampling).
 
+mod aov;
 mod path;
 mod whitted;
 
+pub use aov::{reflectance, visible_surface, MAX_DELTA_BOUNCES};
 pub use path::{power_heuristic, DirectLighting, PathIntegrator, PATH_LANES, RR_DEPTH};
 pub use whitted::WhittedIntegrator;
 

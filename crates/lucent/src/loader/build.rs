@@ -9,7 +9,7 @@ use super::textures::TextureTable;
 use super::values::*;
 use super::{LoadedScene, SceneFile};
 use crate::color::Color;
-use crate::film::{check_image_size, Filter, ToneMap};
+use crate::film::{check_image_size, Aov, AovSet, Filter, ToneMap};
 use crate::geometry::Transform;
 use crate::light::{Environment, EnvironmentMapping, Falloff, Light, MapOptions};
 use crate::material::MaterialId;
@@ -220,6 +220,8 @@ impl SceneFile {
             film_scale: r.film_scale.map_or(Color::ONE, Color::from),
             max_component: r.max_component.map(Positive::get),
             max_indirect: r.max_indirect.map(Positive::get),
+            aovs: AovSet::of(&r.aov.iter().map(|&a| Aov::from(a)).collect::<Vec<_>>()),
+            filter_importance: r.filter_importance,
         })
     }
 

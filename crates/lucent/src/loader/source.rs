@@ -6,9 +6,10 @@
 
 use super::pbrt::{import_pbrt, ImportOptions};
 use super::{
-    ImageDimension, IntegratorDesc, LoadedScene, MaxDepth, SampleCount, SamplerDesc, SceneDescription, SceneFile,
+    AovDesc, ImageDimension, IntegratorDesc, LoadedScene, MaxDepth, SampleCount, SamplerDesc, SceneDescription,
+    SceneFile,
 };
-use crate::film::check_image_size;
+use crate::film::{check_image_size, AovSet};
 use crate::render::IntegratorKind;
 use crate::sampling::SamplerKind;
 use crate::scene::SceneError;
@@ -32,6 +33,11 @@ pub struct SceneOverrides {
     pub sampler: Option<SamplerKind>,
     /// Most bounces.
     pub max_depth: Option<u32>,
+    /// Auxiliary images (replacing the scene's `aov` list).
+    pub aovs: Option<AovSet>,
+    /// Place samples by filter importance sampling (see
+    /// [`RenderSettings::filter_importance`](crate::render::RenderSettings::filter_importance)).
+    pub filter_importance: Option<bool>,
     /// pbrt-v4 scenes only: every importer warning is an error.
     pub strict: bool,
     /// pbrt-v4 scenes only: the image for every `infinite` light with a
@@ -93,6 +99,8 @@ impl SceneSource {
             s.integrator = overrides.integrator.unwrap_or(s.integrator);
             s.sampler = overrides.sampler.unwrap_or(s.sampler);
             s.max_depth = overrides.max_depth.unwrap_or(s.max_depth);
+            s.aovs = overrides.aovs.unwrap_or(s.aovs);
+            s.filter_importance = overrides.filter_importance.unwrap_or(s.filter_importance);
             return Ok(Self { loaded, path: Some(path.to_owned()), key: "pbrt-v4".into(), pbrt: true });
         }
         Self::from_file(SceneFile::load(path)?, overrides)
@@ -154,6 +162,9 @@ impl SceneSource {
         }
         settings.tone_map = Default::default();
         settings.srgb = true;
+        // The auxiliary images change no sample; the files that hold the
+        // sums say which they hold.
+        settings.aovs = AovSet::NONE;
         let mut h = fnv1a(FNV_OFFSET, format!("{}\n{settings:?}", self.key).as_bytes());
         let base = self.base_dir().unwrap_or(Path::new("."));
         for path in &self.loaded.files {
@@ -208,6 +219,12 @@ fn apply(file: &mut SceneFile, o: &SceneOverrides) -> Result<(), SceneError> {
     if let Some(d) = o.max_depth {
         r.max_depth = Some(MaxDepth(d));
     }
+    if let Some(fis) = o.filter_importance {
+        r.filter_importance = fis;
+    }
+    if let Some(aovs) = o.aovs {
+        r.aov = aovs.iter().map(AovDesc::from).collect();
+    }
     if o.width.is_some() || o.height.is_some() {
         check_image_size(r.width.0, r.height.0).map_err(|e| {
             let given: Vec<String> = [("width", o.width), ("height", o.height)]
@@ -230,6 +247,7 @@ fn description_key(description: &SceneDescription) -> String {
     d.render.srgb = true;
     d.render.max_depth = None;
     d.render.sampler = None;
+    d.render.aov = Vec::new();
     format!("{d:?}")
 }
 

@@ -17,7 +17,9 @@ pub use settings::{IntegratorKind, RenderSettings};
 /// [`RenderOptions::cancel`]).
 pub const CANCEL_PASS_INTERVAL: Duration = Duration::from_secs(5);
 
-use crate::film::{validate_film_response, Accumulator, Film, FilmError, PartialError, PartialFilm, SensorError};
+use crate::film::{
+    validate_film_response, Accumulator, AovImages, AovSet, Film, FilmError, PartialError, PartialFilm, SensorError,
+};
 use crate::integrator::{Integrator, PathIntegrator, RayStats, WhittedIntegrator};
 use crate::scene::Scene;
 use std::time::Duration;
@@ -57,6 +59,8 @@ pub struct RenderOptions<'a> {
 pub struct RenderOutput {
     /// The image, linear radiance.
     pub film: Film,
+    /// The auxiliary images of [`RenderSettings::aovs`].
+    pub aovs: AovImages,
     /// Rays traced.
     pub stats: RayStats,
     /// Wall-clock time of the render loop (scene building excluded).
@@ -109,6 +113,10 @@ pub enum RenderError {
     /// The accumulator does not match the image size.
     #[error("the accumulated film is {0}×{1} but the image is {2}×{3}")]
     AccumulatorSize(u32, u32, u32, u32),
+    /// The accumulator holds other auxiliary images than the settings ask
+    /// for.
+    #[error("the accumulated film holds the auxiliary images {0}, but the render asks for {1}")]
+    AccumulatorAovs(AovSet, AovSet),
     /// The worker pool could not start.
     #[error("cannot start {0} worker threads: {1}")]
     Threads(usize, String),
@@ -132,10 +140,11 @@ pub enum RenderError {
 /// so the image is bit-identical whatever the number of threads.
 pub fn render(scene: &Scene, settings: &RenderSettings, options: RenderOptions) -> Result<RenderOutput, RenderError> {
     let camera = scene.camera();
-    let mut acc = Accumulator::new(camera.width(), camera.height())?;
+    let mut acc = Accumulator::with_aovs(camera.width(), camera.height(), settings.aovs)?;
     let report = render_into(scene, settings, &mut acc, options)?;
     Ok(RenderOutput {
         film: acc.to_film(),
+        aovs: acc.to_aov_images(),
         stats: report.stats,
         elapsed: report.elapsed,
         spp: acc.spp(),
@@ -163,7 +172,7 @@ pub fn render_partial(
         return Err(PartialError::Empty(samples.start, samples.end).into());
     }
     let camera = scene.camera();
-    let mut acc = Accumulator::new(camera.width(), camera.height())?;
+    let mut acc = Accumulator::with_aovs(camera.width(), camera.height(), settings.aovs)?;
     // Start the sample sequences at `samples.start`: the accumulator counts
     // those samples as taken without holding them.
     acc.add_spp(samples.start);
@@ -216,6 +225,9 @@ pub fn render_into_with<I: Integrator>(
     let (w, h) = (camera.width(), camera.height());
     if (acc.width(), acc.height()) != (w, h) {
         return Err(RenderError::AccumulatorSize(acc.width(), acc.height(), w, h));
+    }
+    if acc.aovs() != settings.aovs {
+        return Err(RenderError::AccumulatorAovs(acc.aovs(), settings.aovs));
     }
     if options.spp.unwrap_or(settings.spp) == 0 || settings.spp == 0 {
         return Err(RenderError::NoSamples);

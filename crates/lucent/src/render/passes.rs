@@ -5,9 +5,9 @@
 
 use super::{RenderError, RenderOptions, RenderReport, RenderSettings, CANCEL_PASS_INTERVAL};
 use crate::color::Color;
-use crate::film::{film_response, Accumulator, Filter, SplatBand};
+use crate::film::{film_response, Accumulator, Filter, FilterSampler, SplatBand};
 use crate::geometry::{Ray, Vec2, Vec3};
-use crate::integrator::{Integrator, RayStats, PATH_LANES};
+use crate::integrator::{visible_surface, Integrator, RayStats, PATH_LANES};
 use crate::sampling::{Sampler, SamplerKind};
 use crate::scene::Scene;
 use rayon::prelude::*;
@@ -106,8 +106,8 @@ pub(super) fn run<I: Integrator>(
         let pass_stats = pass.render(&nonfinite, options.cancel, &progress);
         if options.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
             *acc = match before.flatten() {
-                Some(raw) => Accumulator::from_raw(acc.width(), acc.height(), acc.spp(), &raw)?,
-                None => Accumulator::new(acc.width(), acc.height())?,
+                Some(raw) => Accumulator::from_raw(acc.width(), acc.height(), acc.spp(), acc.aovs(), &raw)?,
+                None => Accumulator::with_aovs(acc.width(), acc.height(), acc.aovs())?,
             };
             return Err(RenderError::Interrupted);
         }
@@ -163,14 +163,23 @@ impl<I: Integrator> Pass<'_, I> {
         // A pinhole camera ignores its lens sample: skip drawing it.
         let has_lens = camera.lens().is_some();
         let (film_scale, max_component) = (settings.film_scale, settings.max_component);
+        // Auxiliary images: each camera ray's visible surface, splatted
+        // with the colour's filter weights (`channels` values per lane).
+        let aovs = self.acc.aovs();
+        let channels = aovs.channel_count();
+        // Filter importance sampling: each sample's offset from its pixel
+        // centre drawn with density ∝ |f|, its weight the filter's sign.
+        // (The filter was validated when the settings were made.)
+        let fis = settings.filter_importance.then(|| FilterSampler::try_new(*self.filter).ok()).flatten();
         (0..h)
             .into_par_iter()
             .map_init(
                 || {
                     let sampler = Sampler::new(settings.sampler, settings.seed, settings.spp);
-                    (vec![sampler; PATH_LANES], SplatBand::new(self.filter, w, h))
+                    let band = SplatBand::new(self.filter, w, h, self.acc.stride());
+                    (vec![sampler; PATH_LANES], band, vec![0.0f32; PATH_LANES * channels])
                 },
-                |(samplers, band), y| {
+                |(samplers, band, aux), y| {
                     let mut stats = RayStats::default();
                     if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
                         return stats;
@@ -183,6 +192,7 @@ impl<I: Integrator> Pass<'_, I> {
                     // pass.
                     let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); PATH_LANES];
                     let mut film_u = [Vec2::ZERO; PATH_LANES];
+                    let mut fis_weight = [1.0f32; PATH_LANES];
                     let mut radiance = [Color::ZERO; PATH_LANES];
                     for x0 in (0..w).step_by(PATH_LANES) {
                         let n = (w - x0).min(PATH_LANES as u32) as usize;
@@ -191,7 +201,14 @@ impl<I: Integrator> Pass<'_, I> {
                                 let (x, sampler) = (x0 + j as u32, &mut samplers[j]);
                                 sampler.start_pixel_sample(x, y, index);
                                 let u = sampler.pixel_2d();
-                                let film_pos = Vec2::new(x as f32, y as f32) + u;
+                                let film_pos = match &fis {
+                                    None => Vec2::new(x as f32, y as f32) + u,
+                                    Some(fis) => {
+                                        let s = fis.sample(u);
+                                        fis_weight[j] = s.weight;
+                                        Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + s.offset
+                                    }
+                                };
                                 let lens = if has_lens {
                                     sampler.get_2d()
                                 } else {
@@ -208,6 +225,11 @@ impl<I: Integrator> Pass<'_, I> {
                                 &mut radiance[..n],
                                 &mut stats,
                             );
+                            if channels > 0 {
+                                for (ray, out) in rays[..n].iter().zip(aux.chunks_exact_mut(channels)) {
+                                    aovs.write(&visible_surface(self.scene, ray, &mut stats), out);
+                                }
+                            }
                             for j in 0..n {
                                 let l = radiance[j];
                                 if !l.is_finite() {
@@ -217,7 +239,12 @@ impl<I: Integrator> Pass<'_, I> {
                                 // The film's response (pbrt-v4's RGBFilm):
                                 // scale, then clamp, per sample.
                                 let l = film_response(l, film_scale, max_component);
-                                band.add(x0 + j as u32, film_u[j], l, self.acc);
+                                let aux = &aux[j * channels..(j + 1) * channels];
+                                if fis.is_some() {
+                                    band.add_own(x0 + j as u32, l, aux, fis_weight[j]);
+                                } else {
+                                    band.add(x0 + j as u32, film_u[j], l, aux, self.acc);
+                                }
                             }
                         }
                     }

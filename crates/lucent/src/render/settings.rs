@@ -1,7 +1,7 @@
 //! How a scene is rendered: [`RenderSettings`].
 
 use crate::color::Color;
-use crate::film::{Filter, ToneMap};
+use crate::film::{AovSet, Filter, ToneMap};
 use crate::sampling::SamplerKind;
 
 /// How an image is sampled, which light transport computes it, and how it
@@ -43,6 +43,15 @@ pub struct RenderSettings {
     /// of caustics at the cost of bias where indirect light is that
     /// bright; `None` by default.
     pub max_indirect: Option<f32>,
+    /// Auxiliary images to make besides the colour (none by default).
+    pub aovs: AovSet,
+    /// Place each sample by importance sampling the filter, so that it
+    /// lands in one pixel with the filter's sign as its weight (pbrt-v4's
+    /// way, and what a denoiser needs: no noise shared between
+    /// neighbours), instead of splatting it, weighted, into every pixel
+    /// the filter covers (false, the default). With the default box filter
+    /// of radius ½ both give the same image.
+    pub filter_importance: bool,
 }
 
 /// The light transport algorithms.
@@ -78,8 +87,8 @@ impl IntegratorKind {
 impl RenderSettings {
     /// The defaults of `integrator`: 16 samples per pixel, its own depth
     /// and sampler, a box filter, classic tone mapping, sRGB output, seed 0,
-    /// no regularisation, film scale 1 and no clamp of samples or of
-    /// indirect light.
+    /// no regularisation, film scale 1, no clamp of samples or of
+    /// indirect light, and no auxiliary images.
     pub fn for_integrator(integrator: IntegratorKind) -> Self {
         Self {
             spp: 16,
@@ -94,6 +103,8 @@ impl RenderSettings {
             film_scale: Color::ONE,
             max_component: None,
             max_indirect: None,
+            aovs: AovSet::NONE,
+            filter_importance: false,
         }
     }
 }

@@ -8,7 +8,7 @@
 //! command line would with `--width 8 --height 8 --spp 1 --max-depth 8`,
 //! and must give finite pixels.
 
-use crate::film::{load_checkpoint, PartialFilm};
+use crate::film::{load_checkpoint, AovSet, PartialFilm};
 use crate::loader::pbrt::parse_str;
 use crate::loader::{SceneOverrides, SceneSource};
 use crate::render::{render, RenderOptions};
@@ -100,7 +100,8 @@ impl Reader {
                 // check to the pixel data (a real render compares its own).
                 let word = |i: usize| data.get(i..i + 4).map_or(8, |b| u32::from_le_bytes(b.try_into().unwrap()));
                 let fingerprint = data.get(24..32).map_or(0, |b| u64::from_le_bytes(b.try_into().unwrap()));
-                load_checkpoint(&path, fingerprint, word(12), word(16)).is_ok()
+                let aovs = AovSet::from_bits(word(32)).unwrap_or_default();
+                load_checkpoint(&path, fingerprint, word(12), word(16), aovs).is_ok()
             }
         }
     }

@@ -3,6 +3,7 @@
 use super::super::values::*;
 use super::TransformOp;
 use super::{default_up, one, white};
+use crate::film::Aov;
 use serde::{Deserialize, Serialize};
 
 /// The `[camera]` table.
@@ -155,6 +156,51 @@ pub struct RenderDesc {
     /// none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_indirect: Option<Positive>,
+    /// Auxiliary images written beside the colour in EXR output (default:
+    /// none), e.g. `aov = ["albedo", "normal"]`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub aov: Vec<AovDesc>,
+    /// Place each sample in one pixel by importance sampling the filter,
+    /// instead of splatting it into every pixel the filter covers (default
+    /// false; `lucent render --denoise` turns it on).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub filter_importance: bool,
+}
+
+/// The auxiliary images, as named in scene files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AovDesc {
+    /// Surface reflectance.
+    Albedo,
+    /// Shading normal.
+    Normal,
+    /// Hit position.
+    Position,
+    /// Distance from the camera.
+    Depth,
+}
+
+impl From<AovDesc> for Aov {
+    fn from(a: AovDesc) -> Self {
+        match a {
+            AovDesc::Albedo => Aov::Albedo,
+            AovDesc::Normal => Aov::Normal,
+            AovDesc::Position => Aov::Position,
+            AovDesc::Depth => Aov::Depth,
+        }
+    }
+}
+
+impl From<Aov> for AovDesc {
+    fn from(a: Aov) -> Self {
+        match a {
+            Aov::Albedo => AovDesc::Albedo,
+            Aov::Normal => AovDesc::Normal,
+            Aov::Position => AovDesc::Position,
+            Aov::Depth => AovDesc::Depth,
+        }
+    }
 }
 
 /// The integrators, as named in scene files.
@@ -288,6 +334,8 @@ impl Default for RenderDesc {
             film_scale: None,
             max_component: None,
             max_indirect: None,
+            aov: Vec::new(),
+            filter_importance: false,
         }
     }
 }

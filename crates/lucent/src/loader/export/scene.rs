@@ -389,6 +389,8 @@ fn render(scene: &Scene, s: &RenderSettings) -> RenderDesc {
         film_scale: (s.film_scale != Color::ONE).then(|| rgb(s.film_scale)),
         max_component: s.max_component.map(Positive),
         max_indirect: s.max_indirect.map(Positive),
+        aov: s.aovs.iter().map(AovDesc::from).collect(),
+        filter_importance: s.filter_importance,
     }
 }
 
