@@ -190,6 +190,21 @@ pub struct SceneOverrides {
     /// --denoise; overrides the scene's `filter_importance`).
     #[arg(long)]
     pub filter_importance: bool,
+    /// Adaptive sampling: stop sampling pixels whose estimated relative
+    /// error is below THRESHOLD (e.g. 0.01; see docs/denoising.md), deciding
+    /// after 16, 24, 32... samples; --spp is then the most a pixel takes.
+    /// An .exr output gets the samples per pixel as SampleCount (overrides
+    /// the scene's `adaptive`).
+    #[arg(long, value_name = "THRESHOLD", value_parser = positive_threshold)]
+    pub adaptive: Option<f32>,
+}
+
+/// `--adaptive` values: a finite number > 0.
+fn positive_threshold(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("expected a threshold > 0 (e.g. 0.01), got '{s}'")),
+    }
 }
 
 /// `--aov` values.

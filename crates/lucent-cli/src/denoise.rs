@@ -3,7 +3,7 @@
 
 use crate::cli::{DenoiseArgs, DenoiseCommandArgs};
 use lucent::denoise::{DenoiseOptions, Denoiser};
-use lucent::film::{exr_layers, Aov, AovImages, AovSet, Film, PendingImage, ToneMap};
+use lucent::film::{exr_layers, Aov, AovImages, AovSet, Film, Layers, PendingImage, ToneMap};
 use std::time::Instant;
 
 /// The auxiliary images the denoiser is guided by (unless `--denoise-aux
@@ -113,7 +113,8 @@ pub fn command(args: &DenoiseCommandArgs) -> Result<(), String> {
     // An .exr keeps the input's layers and its colour as Noisy.R/G/B.
     let is_exr = pending.check_aovs(aovs.aovs).is_ok();
     let kept = if is_exr { aovs } else { AovImages::none(film.width(), film.height()) };
-    pending.write_layers(&clean, is_exr.then_some(&film), &kept, ToneMap::Classic, true).map_err(|e| e.to_string())?;
+    let layers = Layers { noisy: is_exr.then_some(&film), aovs: &kept, sample_counts: None };
+    pending.write_layers(&clean, &layers, ToneMap::Classic, true).map_err(|e| e.to_string())?;
     if !args.quiet {
         let guides = match (albedo.is_some(), normal.is_some()) {
             (true, true) => "albedo and normal",

@@ -5,7 +5,7 @@
 use crate::cli::RenderArgs;
 use crate::progress::FractionProgress;
 use lucent::film::{
-    load_checkpoint, save_checkpoint, Accumulator, AovImages, CheckpointError, ImageFormat, PendingImage,
+    load_checkpoint, save_checkpoint, Accumulator, AovImages, CheckpointError, ImageFormat, Layers, PendingImage,
 };
 use lucent::loader::{SceneSource, MAX_SPP};
 use lucent::render::{render_into, PassInfo, RenderError, RenderOptions};
@@ -50,7 +50,9 @@ pub fn run(args: &RenderArgs, source: &SceneSource, out_path: &Path) -> Result<(
     let settings = &settings;
     // Only an .exr holds the auxiliary images.
     let exr = pending.format() == ImageFormat::Exr;
-    let layers = |acc: &Accumulator| if exr { acc.to_aov_images() } else { AovImages::none(w, h) };
+    let aov_layers = |acc: &Accumulator| if exr { acc.to_aov_images() } else { AovImages::none(w, h) };
+    // Adaptive sampling's samples per pixel, as a layer of an .exr.
+    let counts = |acc: &Accumulator| acc.sample_counts().filter(|_| exr);
     let ckpt = checkpoint_path(out_path);
     let keep_state = args.checkpoint_every.is_some() || args.resume;
     // The fingerprint reads every mesh and environment file again: only
@@ -64,14 +66,14 @@ pub fn run(args: &RenderArgs, source: &SceneSource, out_path: &Path) -> Result<(
                 out_path.display()
             ));
         }
-        load_checkpoint(&ckpt, fp, w, h, settings.aovs).map_err(|e| match e {
+        load_checkpoint(&ckpt, fp, w, h, settings.aovs, settings.adaptive.is_some()).map_err(|e| match e {
             CheckpointError::Mismatch { .. } if settings.sampler == SamplerKind::Stratified => format!(
                 "{e}; with the stratified sampler each pixel's samples form one grid of --spp, so a render resumes only with the same --spp (to add samples later, render with --sampler sobol)"
             ),
             e => e.to_string(),
         })?
     } else {
-        Accumulator::with_aovs(w, h, settings.aovs).map_err(|e| e.to_string())?
+        Accumulator::with_layout(w, h, settings.aovs, settings.adaptive.is_some()).map_err(|e| e.to_string())?
     };
     // With a time budget and no explicit --spp, the budget alone decides.
     let target = match (args.time, args.overrides.spp) {
@@ -93,7 +95,9 @@ pub fn run(args: &RenderArgs, source: &SceneSource, out_path: &Path) -> Result<(
             save_checkpoint(&ckpt, acc, fp).map_err(|e| e.to_string())?;
             // The image in progress, for watching.
             let image = PendingImage::create(out_path).map_err(|e| e.to_string())?;
-            image.write_with_aovs(&acc.to_film(), &layers(acc), tone_map, srgb).map_err(|e| e.to_string())?;
+            let (aovs, counts) = (aov_layers(acc), counts(acc));
+            let layers = Layers { aovs: &aovs, sample_counts: counts.as_deref(), noisy: None };
+            image.write_layers(&acc.to_film(), &layers, tone_map, srgb).map_err(|e| e.to_string())?;
             last_checkpoint = Instant::now();
         }
         Ok(())
@@ -127,9 +131,10 @@ pub fn run(args: &RenderArgs, source: &SceneSource, out_path: &Path) -> Result<(
     if keep_state && output.is_some() {
         save_checkpoint(&ckpt, &acc, fp).map_err(|e| e.to_string())?;
     }
-    let (film, aovs) = (acc.to_film(), layers(&acc));
+    let (film, aovs, counts) = (acc.to_film(), aov_layers(&acc), counts(&acc));
+    let layers = Layers { aovs: &aovs, sample_counts: counts.as_deref(), noisy: None };
     match &denoiser {
-        None => pending.write_with_aovs(&film, &aovs, tone_map, srgb).map_err(|e| e.to_string())?,
+        None => pending.write_layers(&film, &layers, tone_map, srgb).map_err(|e| e.to_string())?,
         Some(denoiser) => {
             let start = Instant::now();
             let clean = crate::denoise::run_on(denoiser, &args.denoise, &film, &acc.to_aov_images(), args.threads)?;
@@ -142,7 +147,8 @@ pub fn run(args: &RenderArgs, source: &SceneSource, out_path: &Path) -> Result<(
             }
             // An .exr keeps the noisy colour and every layer; the other
             // formats the denoised colour alone.
-            pending.write_layers(&clean, exr.then_some(&film), &aovs, tone_map, srgb).map_err(|e| e.to_string())?;
+            let layers = Layers { noisy: exr.then_some(&film), ..layers };
+            pending.write_layers(&clean, &layers, tone_map, srgb).map_err(|e| e.to_string())?;
         }
     }
 
@@ -154,7 +160,7 @@ pub fn run(args: &RenderArgs, source: &SceneSource, out_path: &Path) -> Result<(
     if !args.quiet {
         match output {
             Some(out) => {
-                let samples = w as f64 * h as f64 * out.spp_added as f64;
+                let samples = out.pixel_samples as f64;
                 let secs = out.elapsed.as_secs_f64();
                 let resumed = if resumed_at > 0 {
                     format!(" ({} resumed + {} now)", resumed_at, out.spp_added)
@@ -174,13 +180,23 @@ pub fn run(args: &RenderArgs, source: &SceneSource, out_path: &Path) -> Result<(
                 )?;
             }
             None => say!(
-                "{}: {}×{}, {} spp from {} (nothing to add for --spp {target})",
+                "{}: {}×{}, {} spp from {} (nothing to add for --spp {target}, or every pixel has converged)",
                 out_path.display(),
                 w,
                 h,
                 acc.spp(),
                 ckpt.display()
             )?,
+        }
+        if let Some(counts) = acc.sample_counts() {
+            let mean = counts.iter().map(|&c| c as f64).sum::<f64>() / counts.len().max(1) as f64;
+            let stopped = counts.iter().filter(|&&c| c < acc.spp()).count();
+            say!(
+                "adaptive sampling: {:.1} samples per pixel on average ({} at most), {:.1}% of pixels stopped early",
+                mean,
+                acc.spp(),
+                100.0 * stopped as f64 / counts.len().max(1) as f64
+            )?;
         }
         if keep_state {
             say!("samples kept in {} (continue with --resume and a larger --spp)", ckpt.display())?;

@@ -45,6 +45,7 @@ fn library_overrides(o: &SceneOverrides, import: &ImportArgs) -> lucent::loader:
         max_depth: o.max_depth,
         aovs: o.aov,
         filter_importance: o.filter_importance.then_some(true),
+        adaptive: o.adaptive,
         strict: import.strict,
         environment: import.env.clone(),
     }

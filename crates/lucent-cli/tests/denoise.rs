@@ -207,3 +207,25 @@ fn denoising_reduces_the_error_against_a_converged_render() {
     let (again, _) = exr_layers::read(&d.join("dn2.exr")).unwrap();
     assert_eq!(again, clean);
 }
+
+#[test]
+fn adaptive_sampling_reports_its_samples_and_refuses_parts() {
+    let dir = setup();
+    let d = dir.path();
+    let out = run(d, &["render", "s.toml", "-o", "a.exr", "--spp", "40", "--adaptive", "0.05"], None);
+    assert_success(&out);
+    assert!(out.stdout.contains("adaptive sampling:") && out.stdout.contains("(40 at most)"), "{}", out.stdout);
+    let bytes = std::fs::read(d.join("a.exr")).unwrap();
+    assert!(bytes.windows(11).any(|w| w == b"SampleCount"), "the .exr has a SampleCount channel");
+    // Resumed with a checkpoint: the same image.
+    let args =
+        ["render", "s.toml", "-o", "b.exr", "-q", "--spp", "20", "--adaptive", "0.05", "--checkpoint-every", "999"];
+    assert_success(&run(d, &args, None));
+    let resume = ["render", "s.toml", "-o", "b.exr", "-q", "--spp", "40", "--adaptive", "0.05", "--resume"];
+    assert_success(&run(d, &resume, None));
+    assert_eq!(std::fs::read(d.join("b.exr")).unwrap(), bytes);
+    let e = run(d, &["render", "s.toml", "-o", "p.lpart", "--samples", "0..4", "--adaptive", "0.05"], None);
+    assert_error(&e, &["adaptive sampling cannot render a range of samples"]);
+    let e = run(d, &["render", "s.toml", "-o", "p.exr", "--adaptive", "0"], None);
+    assert_fails_with(&e, 2, &["expected a threshold > 0"]);
+}

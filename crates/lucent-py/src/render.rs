@@ -146,6 +146,11 @@ impl Accumulation {
         film_bytes(py, &self.acc.to_film())
     }
 
+    /// Samples taken per pixel, row by row (adaptive sampling; else None).
+    fn sample_counts(&self) -> Option<Vec<u32>> {
+        self.acc.sample_counts()
+    }
+
     /// The auxiliary images so far: a dict from each AOV's name to its
     /// channel count and little-endian `float32` values, row by row.
     fn aov_images<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {

@@ -38,7 +38,11 @@ fn overrides(
     env: Option<PathBuf>,
     aovs: Option<Vec<String>>,
     filter_importance: Option<bool>,
+    adaptive: Option<f32>,
 ) -> PyResult<SceneOverrides> {
+    if adaptive.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
+        return Err(PyValueError::new_err("adaptive must be a threshold > 0 (e.g. 0.01)"));
+    }
     let aovs = aovs
         .map(|names| {
             names.iter().try_fold(AovSet::NONE, |set, name| {
@@ -81,6 +85,7 @@ fn overrides(
         max_depth,
         aovs,
         filter_importance,
+        adaptive,
         strict,
         environment: env,
     })
@@ -92,7 +97,7 @@ impl Source {
     /// `.pbrt.gz`) with the given overrides; `strict` and `env` are for
     /// pbrt-v4 scenes. The GIL is released while loading.
     #[staticmethod]
-    #[pyo3(signature = (path, *, width=None, height=None, spp=None, seed=None, integrator=None, sampler=None, max_depth=None, strict=false, env=None, aovs=None, filter_importance=None))]
+    #[pyo3(signature = (path, *, width=None, height=None, spp=None, seed=None, integrator=None, sampler=None, max_depth=None, strict=false, env=None, aovs=None, filter_importance=None, adaptive=None))]
     #[allow(clippy::too_many_arguments)]
     fn open(
         py: Python<'_>,
@@ -108,9 +113,22 @@ impl Source {
         env: Option<PathBuf>,
         aovs: Option<Vec<String>>,
         filter_importance: Option<bool>,
+        adaptive: Option<f32>,
     ) -> PyResult<Source> {
-        let o =
-            overrides(width, height, spp, seed, integrator, sampler, max_depth, strict, env, aovs, filter_importance)?;
+        let o = overrides(
+            width,
+            height,
+            spp,
+            seed,
+            integrator,
+            sampler,
+            max_depth,
+            strict,
+            env,
+            aovs,
+            filter_importance,
+            adaptive,
+        )?;
         let inner = py.detach(|| SceneSource::open(&path, &o)).map_err(|e| scene_error(py, &e))?;
         Ok(Source { inner, from_text: false })
     }
@@ -119,7 +137,7 @@ impl Source {
     /// it in messages and relative paths in it resolve against its
     /// directory (it need not exist).
     #[staticmethod]
-    #[pyo3(signature = (text, path, *, width=None, height=None, spp=None, seed=None, integrator=None, sampler=None, max_depth=None, aovs=None, filter_importance=None))]
+    #[pyo3(signature = (text, path, *, width=None, height=None, spp=None, seed=None, integrator=None, sampler=None, max_depth=None, aovs=None, filter_importance=None, adaptive=None))]
     #[allow(clippy::too_many_arguments)]
     fn from_json(
         py: Python<'_>,
@@ -134,9 +152,22 @@ impl Source {
         max_depth: Option<u32>,
         aovs: Option<Vec<String>>,
         filter_importance: Option<bool>,
+        adaptive: Option<f32>,
     ) -> PyResult<Source> {
-        let o =
-            overrides(width, height, spp, seed, integrator, sampler, max_depth, false, None, aovs, filter_importance)?;
+        let o = overrides(
+            width,
+            height,
+            spp,
+            seed,
+            integrator,
+            sampler,
+            max_depth,
+            false,
+            None,
+            aovs,
+            filter_importance,
+            adaptive,
+        )?;
         let inner = py
             .detach(|| SceneSource::from_file(SceneFile::parse(text, SceneFormat::Json, Some(path))?, &o))
             .map_err(|e| scene_error(py, &e))?;
@@ -192,7 +223,8 @@ impl Source {
 
     /// An empty accumulation of this scene's size.
     fn accumulation(&self) -> PyResult<Accumulation> {
-        let acc = Accumulator::with_aovs(self.width(), self.height(), self.inner.loaded.settings.aovs)
+        let settings = &self.inner.loaded.settings;
+        let acc = Accumulator::with_layout(self.width(), self.height(), settings.aovs, settings.adaptive.is_some())
             .map_err(|e| scene_error_text(&format!("cannot make the image: {e}")))?;
         Ok(Accumulation { acc })
     }

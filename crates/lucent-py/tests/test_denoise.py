@@ -94,3 +94,14 @@ def test_render_denoise_beats_the_noisy_image():
     # A normal needs an albedo.
     with pytest.raises(RuntimeError, match="normal image can only be used together with an albedo"):
         lucent.denoise(out["noisy"], normal=out["normal"])
+
+
+def test_adaptive_sampling_from_python_is_the_cli_render():
+    scene = lucent.load(SCENES / "cornell-box.toml")
+    image = scene.render(width=24, height=24, spp=40, adaptive=0.05, progress=False)
+    counts = scene.last_report["sample_counts"]
+    assert counts.shape == (24, 24) and counts.max() == 40 and counts.min() >= 16
+    again = scene.render(width=24, height=24, spp=40, adaptive=0.05, threads=1, progress=False)
+    assert again.tobytes() == image.tobytes()
+    with pytest.raises(ValueError, match="adaptive must be a threshold"):
+        scene.render(width=24, height=24, adaptive=-1, progress=False)

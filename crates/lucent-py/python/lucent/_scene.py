@@ -21,7 +21,7 @@ OBJECT_KINDS = ("sphere", "plane", "triangle", "quad", "disk", "cylinder", "mesh
 #: The light kinds of :meth:`Scene.add_light` and their tables.
 LIGHT_KINDS = {"point": "point_light", "spot": "spot_light", "directional": "directional_light"}
 #: Keyword arguments of a render that change the scene's own settings.
-_OVERRIDES = ("width", "height", "spp", "seed", "integrator", "sampler", "max_depth", "aovs", "filter_importance")
+_OVERRIDES = ("width", "height", "spp", "seed", "integrator", "sampler", "max_depth", "aovs", "filter_importance", "adaptive")
 #: The auxiliary images a render can return.
 AOVS = ("albedo", "normal", "position", "depth")
 #: The name under which a dict scene's text is given to the loader: it
@@ -392,6 +392,7 @@ class Scene:
         denoise: bool = False,
         denoise_quality: str = "default",
         denoise_aux: str = "prefilter",
+        adaptive: Optional[float] = None,
     ) -> Any:
         """Render the scene; returns a ``(height, width, 3)`` float32 array
         of linear radiance: the values ``lucent render -o image.exr``
@@ -409,6 +410,11 @@ class Scene:
         and normal images rendered for it, with every sample placed in one
         pixel (filter importance sampling), as ``lucent render --denoise``;
         the dict then holds the ``"noisy"`` colour too.
+
+        ``adaptive`` is a threshold of adaptive sampling (as ``--adaptive``:
+        pixels stop once their estimated error is below it; ``spp`` is then
+        the most a pixel takes); the samples each pixel took are then in
+        ``last_report["sample_counts"]``, a ``(height, width)`` array.
 
         What is left out comes from the scene. ``spp`` is samples per pixel;
         ``time`` a time budget in seconds (as ``--time``: without ``spp``
@@ -444,6 +450,7 @@ class Scene:
             max_depth=max_depth,
             aovs=None if render_aovs is None else tuple(render_aovs),
             filter_importance=True if denoise else None,
+            adaptive=adaptive,
         )
         source = self._source(**ov)
         acc = source.accumulation()
@@ -452,6 +459,9 @@ class Scene:
         target = _native.MAX_SPP if time is not None and spp is None else None
         with reporter(progress) as callback:
             report = source.render_into(acc, spp=target, threads=threads, time=time, progress=callback)
+        counts = acc.sample_counts()
+        if counts is not None:
+            report["sample_counts"] = np.array(counts, dtype=np.uint32).reshape(acc.height, acc.width)
         self._finish(report)
         image = _image.from_bytes(acc.image(), acc.width, acc.height)
         layers = _denoise.layers(acc.aov_images(), acc.width, acc.height)

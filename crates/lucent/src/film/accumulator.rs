@@ -28,16 +28,30 @@ pub const MAX_CONTRIBUTION: f32 = (1u32 << 19) as f32;
 /// bit-identical however the work was split among threads, passes, or
 /// interrupted and resumed runs, even though neighbouring rows rendered by
 /// different threads add to the same pixels.
+///
+/// An accumulator for adaptive sampling (see [`super::adaptive`]) keeps,
+/// after the AOV channels, the sums `Σw·r, Σw·g, Σw·b, Σw` of the
+/// odd-numbered samples alone (the half-buffer its error estimate compares
+/// with the whole), and each pixel's sample count: a pixel samples on while
+/// its count equals [`spp`](Self::spp), and keeps the count it stopped at.
 #[derive(Debug)]
 pub struct Accumulator {
     width: u32,
     height: u32,
     spp: u32,
     aovs: AovSet,
-    /// Sums per pixel: `4 + aovs.channel_count()`.
+    adaptive: bool,
+    /// Sums per pixel: `4 + aovs.channel_count()`, and 4 more if adaptive.
     stride: usize,
     sums: Vec<AtomicI64>,
+    /// Samples taken per pixel, with [`STOPPED`] set once adaptive
+    /// sampling has stopped the pixel (adaptive only; empty otherwise).
+    counts: Vec<u32>,
 }
+
+/// The flag of a pixel's sample count that marks it stopped by adaptive
+/// sampling (sample counts are below 2²¹).
+const STOPPED: u32 = 1 << 31;
 
 impl Accumulator {
     /// An empty accumulator of colour only; the size is checked and the
@@ -48,26 +62,57 @@ impl Accumulator {
 
     /// An empty accumulator of colour and the auxiliary images `aovs`.
     pub fn with_aovs(width: u32, height: u32, aovs: AovSet) -> Result<Self, FilmError> {
+        Self::with_layout(width, height, aovs, false)
+    }
+
+    /// An empty accumulator of colour, the auxiliary images `aovs` and, if
+    /// `adaptive`, the state of adaptive sampling.
+    pub fn with_layout(width: u32, height: u32, aovs: AovSet, adaptive: bool) -> Result<Self, FilmError> {
         check_image_size(width, height)?;
-        let stride = 4 + aovs.channel_count();
-        let n = width as usize * height as usize * stride;
+        let stride = Self::stride_of(aovs, adaptive);
+        let pixels = width as usize * height as usize;
+        let n = pixels * stride;
         let mut sums = Vec::new();
         sums.try_reserve_exact(n).map_err(|_| FilmError::OutOfMemory(width, height))?;
         sums.resize_with(n, Default::default);
-        Ok(Self { width, height, spp: 0, aovs, stride, sums })
+        let counts = if adaptive { vec![0; pixels] } else { Vec::new() };
+        Ok(Self { width, height, spp: 0, aovs, adaptive, stride, sums, counts })
+    }
+
+    fn stride_of(aovs: AovSet, adaptive: bool) -> usize {
+        4 + aovs.channel_count() + if adaptive { 4 } else { 0 }
     }
 
     /// Rebuild from stored fixed-point sums (a checkpoint): per pixel, row
     /// by row from the top, `[Σw·r, Σw·g, Σw·b, Σw]` and then `Σw·a` of each
     /// channel of `aovs`.
     pub fn from_raw(width: u32, height: u32, spp: u32, aovs: AovSet, raw: &[i64]) -> Result<Self, FilmError> {
+        Self::from_parts(width, height, spp, aovs, raw, None)
+    }
+
+    /// Rebuild from stored sums laid out as [`raw`](Self::raw) gives them
+    /// and, for adaptive sampling, the per-pixel sample counts (each at
+    /// most `spp`).
+    pub fn from_parts(
+        width: u32,
+        height: u32,
+        spp: u32,
+        aovs: AovSet,
+        raw: &[i64],
+        counts: Option<Vec<u32>>,
+    ) -> Result<Self, FilmError> {
         check_image_size(width, height)?;
-        let stride = 4 + aovs.channel_count();
-        if raw.len() != width as usize * height as usize * stride {
+        let adaptive = counts.is_some();
+        let stride = Self::stride_of(aovs, adaptive);
+        let pixels = width as usize * height as usize;
+        let counts = counts.unwrap_or_default();
+        if raw.len() != pixels * stride
+            || (adaptive && (counts.len() != pixels || counts.iter().any(|&c| c & !STOPPED > spp)))
+        {
             return Err(FilmError::Empty(width, height));
         }
         let sums = raw.iter().map(|&s| AtomicI64::new(s)).collect();
-        Ok(Self { width, height, spp, aovs, stride, sums })
+        Ok(Self { width, height, spp, aovs, adaptive, stride, sums, counts })
     }
 
     /// The fixed-point sums, laid out as [`from_raw`](Self::from_raw)
@@ -102,9 +147,66 @@ impl Accumulator {
         self.spp
     }
 
-    /// Record that `n` more samples were taken in every pixel.
+    /// Record that `n` more samples were taken in every pixel (every
+    /// pixel still sampling, under adaptive sampling).
     pub fn add_spp(&mut self, n: u32) {
+        let spp = self.spp;
+        for c in self.counts.iter_mut().filter(|c| **c == spp) {
+            *c += n;
+        }
         self.spp += n;
+    }
+
+    /// Whether the accumulator keeps the state of adaptive sampling.
+    pub fn is_adaptive(&self) -> bool {
+        self.adaptive
+    }
+
+    /// Samples taken per pixel, row by row (adaptive sampling only).
+    pub fn sample_counts(&self) -> Option<Vec<u32>> {
+        self.adaptive.then(|| self.counts.iter().map(|&c| c & !STOPPED).collect())
+    }
+
+    /// The per-pixel state as stored in checkpoints: the sample count, with
+    /// bit 31 set where adaptive sampling stopped the pixel.
+    pub fn raw_counts(&self) -> Option<&[u32]> {
+        self.adaptive.then_some(&self.counts[..])
+    }
+
+    /// Whether pixel `(x, y)` still takes samples (always, unless adaptive
+    /// sampling stopped it).
+    #[inline]
+    pub fn is_active(&self, x: u32, y: u32) -> bool {
+        !self.adaptive || self.counts[y as usize * self.width as usize + x as usize] == self.spp
+    }
+
+    /// Pixels still taking samples.
+    pub fn active_pixels(&self) -> usize {
+        if self.adaptive {
+            self.counts.iter().filter(|&&c| c == self.spp).count()
+        } else {
+            self.width as usize * self.height as usize
+        }
+    }
+
+    /// Stop the pixels whose `stop[i]` is set (adaptive sampling's
+    /// decision; the others go on). Returns how many were stopped.
+    pub(crate) fn stop(&mut self, stop: &[bool]) -> usize {
+        debug_assert!(self.adaptive && stop.len() == self.counts.len());
+        let mut n = 0;
+        for (c, _) in self.counts.iter_mut().zip(stop).filter(|(_, &s)| s) {
+            if *c & STOPPED == 0 {
+                *c |= STOPPED;
+                n += 1;
+            }
+        }
+        n
+    }
+
+    /// The sums of pixel `i` (row-major): colour and weight, AOV channels,
+    /// and for adaptive sampling the odd half's colour and weight last.
+    pub(crate) fn pixel_raw(&self, i: usize) -> impl Iterator<Item = i64> + '_ {
+        self.sums[i * self.stride..(i + 1) * self.stride].iter().map(|s| s.load(Ordering::Relaxed))
     }
 
     /// Add radiance `l` with filter weight `w` to pixel `(x, y)`. Safe to
@@ -171,7 +273,7 @@ impl Accumulator {
         let channels = self.aovs.channel_count();
         let mut values = Vec::with_capacity(self.width as usize * self.height as usize * channels);
         for (inv_w, s) in self.means() {
-            values.extend(s[4..].iter().map(|v| (v.load(Ordering::Relaxed) as f64 * inv_w) as f32));
+            values.extend(s[4..4 + channels].iter().map(|v| (v.load(Ordering::Relaxed) as f64 * inv_w) as f32));
         }
         AovImages { width: self.width, height: self.height, aovs: self.aovs, values }
     }
@@ -261,13 +363,15 @@ fn to_fixed(v: f32) -> i64 {
 
 impl Clone for Accumulator {
     fn clone(&self) -> Self {
-        Self::from_raw(self.width, self.height, self.spp, self.aovs, &self.raw()).expect("same size")
+        let counts = self.adaptive.then(|| self.counts.clone());
+        Self::from_parts(self.width, self.height, self.spp, self.aovs, &self.raw(), counts).expect("same size")
     }
 }
 
 impl PartialEq for Accumulator {
     fn eq(&self, other: &Self) -> bool {
         (self.width, self.height, self.spp, self.aovs) == (other.width, other.height, other.spp, other.aovs)
+            && (self.adaptive, &self.counts) == (other.adaptive, &other.counts)
             && self.raw() == other.raw()
     }
 }

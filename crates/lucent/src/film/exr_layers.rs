@@ -2,7 +2,7 @@
 //! images' channels (`Albedo.R`, `Ns.X`, `Z`...), written by a render with
 //! AOVs and read back by `lucent denoise`.
 
-use super::{Aov, AovImages, AovSet, Film};
+use super::{Aov, AovImages, AovSet, Film, Layers};
 use crate::color::Color;
 use std::io::Write;
 use std::path::Path;
@@ -33,14 +33,11 @@ pub enum ExrError {
 /// theirs as `Layer.Channel`, as pbrt-v4 and Blender write them), with
 /// lossless ZIP compression of 16 rows per block.
 ///
-/// `noisy`, if given, is written as `Noisy.R/G/B`: the colour before
-/// denoising, beside the denoised `R`, `G`, `B`.
-pub fn write(
-    out: &mut (impl Write + std::io::Seek),
-    film: &Film,
-    noisy: Option<&Film>,
-    aovs: &AovImages,
-) -> exr::error::Result<()> {
+/// Of `layers`: the noisy colour, if given, is written as `Noisy.R/G/B`
+/// (the colour before denoising, beside the denoised `R`, `G`, `B`), and
+/// the sample counts of adaptive sampling as `SampleCount`.
+pub fn write(out: &mut (impl Write + std::io::Seek), film: &Film, layers: &Layers<'_>) -> exr::error::Result<()> {
+    let (noisy, aovs) = (layers.noisy, layers.aovs);
     use exr::prelude::*;
     let (w, h) = (film.width() as usize, film.height() as usize);
     let colour = |f: &Film, i: usize| FlatSamples::F32(f.pixels().iter().map(|c| c.to_array()[i]).collect());
@@ -52,6 +49,9 @@ pub fn write(
         for (i, name) in ["Noisy.R", "Noisy.G", "Noisy.B"].into_iter().enumerate() {
             channels.push(AnyChannel::new(name, colour(noisy, i)));
         }
+    }
+    if let Some(counts) = layers.sample_counts {
+        channels.push(AnyChannel::new("SampleCount", FlatSamples::F32(counts.iter().map(|&c| c as f32).collect())));
     }
     let stride = aovs.aovs.channel_count();
     for (k, name) in aovs.aovs.channel_names().into_iter().enumerate() {

@@ -2,6 +2,7 @@
 //! to display values and files.
 
 mod accumulator;
+pub mod adaptive;
 mod aov;
 mod checkpoint;
 pub mod exr_layers;
@@ -16,7 +17,7 @@ pub use accumulator::{fixed_contribution, fixed_value, Accumulator, AovImages, F
 pub use aov::{Aov, AovSample, AovSet, UnknownAov};
 pub use checkpoint::{load_checkpoint, save_checkpoint, CheckpointError};
 pub use filter::{Filter, Filter1d, FilterError, FilterSample, FilterSampler, TABLE_SEGMENTS};
-pub use output::{ImageFormat, OutputError, PendingImage};
+pub use output::{ImageFormat, Layers, OutputError, PendingImage};
 pub use partial::{show_ranges, PartialError, PartialFilm};
 pub use sensor::{
     film_response, imaging_ratio, pbrt_film_scale, validate_film_response, white_balance_matrix, white_balance_scale,

@@ -81,6 +81,24 @@ impl ImageFormat {
     }
 }
 
+/// What an `.exr` output holds besides the colour.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Layers<'a> {
+    /// The colour before denoising, as `Noisy.R/G/B`.
+    pub noisy: Option<&'a Film>,
+    /// Auxiliary images.
+    pub aovs: &'a AovImages,
+    /// Samples taken per pixel (adaptive sampling), as `SampleCount`.
+    pub sample_counts: Option<&'a [u32]>,
+}
+
+impl Default for &AovImages {
+    fn default() -> Self {
+        static NONE: AovImages = AovImages { width: 0, height: 0, aovs: super::AovSet::NONE, values: Vec::new() };
+        &NONE
+    }
+}
+
 /// An output image reserved before rendering and written after it.
 ///
 /// Creating it checks the extension and creates a temporary file beside the
@@ -169,20 +187,20 @@ impl PendingImage {
         tone_map: ToneMap,
         srgb: bool,
     ) -> Result<(), OutputError> {
-        self.write_layers(film, None, aovs, tone_map, srgb)
+        self.write_layers(film, &Layers { aovs, ..Layers::default() }, tone_map, srgb)
     }
 
-    /// [`write_with_aovs`](Self::write_with_aovs) of a denoised image: an
-    /// `.exr` output keeps the colour before denoising, `noisy`, as
-    /// `Noisy.R/G/B` (other formats get `film` alone).
+    /// [`write_with_aovs`](Self::write_with_aovs) with every extra layer
+    /// of `layers`; an `.exr` output keeps them all, the other formats get
+    /// `film` alone (auxiliary images are refused there, as above).
     pub fn write_layers(
         mut self,
         film: &Film,
-        noisy: Option<&Film>,
-        aovs: &AovImages,
+        layers: &Layers<'_>,
         tone_map: ToneMap,
         srgb: bool,
     ) -> Result<(), OutputError> {
+        let aovs = layers.aovs;
         self.check_aovs(aovs.aovs)?;
         let (w, h) = (film.width(), film.height());
         let path = self.path.clone();
@@ -198,8 +216,10 @@ impl PendingImage {
                         if self.format == ImageFormat::Png { image::ImageFormat::Png } else { image::ImageFormat::Bmp };
                     image::DynamicImage::ImageRgb8(buf).write_to(&mut out, fmt).map_err(encode)?;
                 }
-                ImageFormat::Exr if !aovs.aovs.is_empty() || noisy.is_some() => {
-                    super::exr_layers::write(&mut out, film, noisy, aovs)
+                ImageFormat::Exr
+                    if !aovs.aovs.is_empty() || layers.noisy.is_some() || layers.sample_counts.is_some() =>
+                {
+                    super::exr_layers::write(&mut out, film, layers)
                         .map_err(|e| OutputError::Exr { path: path.clone(), message: e.to_string() })?;
                 }
                 ImageFormat::Exr => {

@@ -222,6 +222,7 @@ impl SceneFile {
             max_indirect: r.max_indirect.map(Positive::get),
             aovs: AovSet::of(&r.aov.iter().map(|&a| Aov::from(a)).collect::<Vec<_>>()),
             filter_importance: r.filter_importance,
+            adaptive: r.adaptive.map(Positive::get),
         })
     }
 

@@ -6,8 +6,8 @@
 
 use super::pbrt::{import_pbrt, ImportOptions};
 use super::{
-    AovDesc, ImageDimension, IntegratorDesc, LoadedScene, MaxDepth, SampleCount, SamplerDesc, SceneDescription,
-    SceneFile,
+    AovDesc, ImageDimension, IntegratorDesc, LoadedScene, MaxDepth, Positive, SampleCount, SamplerDesc,
+    SceneDescription, SceneFile,
 };
 use crate::film::{check_image_size, AovSet};
 use crate::render::IntegratorKind;
@@ -38,6 +38,8 @@ pub struct SceneOverrides {
     /// Place samples by filter importance sampling (see
     /// [`RenderSettings::filter_importance`](crate::render::RenderSettings::filter_importance)).
     pub filter_importance: Option<bool>,
+    /// Adaptive sampling's threshold (replacing the scene's `adaptive`).
+    pub adaptive: Option<f32>,
     /// pbrt-v4 scenes only: every importer warning is an error.
     pub strict: bool,
     /// pbrt-v4 scenes only: the image for every `infinite` light with a
@@ -101,6 +103,7 @@ impl SceneSource {
             s.max_depth = overrides.max_depth.unwrap_or(s.max_depth);
             s.aovs = overrides.aovs.unwrap_or(s.aovs);
             s.filter_importance = overrides.filter_importance.unwrap_or(s.filter_importance);
+            s.adaptive = overrides.adaptive.or(s.adaptive);
             return Ok(Self { loaded, path: Some(path.to_owned()), key: "pbrt-v4".into(), pbrt: true });
         }
         Self::from_file(SceneFile::load(path)?, overrides)
@@ -221,6 +224,12 @@ fn apply(file: &mut SceneFile, o: &SceneOverrides) -> Result<(), SceneError> {
     }
     if let Some(fis) = o.filter_importance {
         r.filter_importance = fis;
+    }
+    if let Some(t) = o.adaptive {
+        r.adaptive = Some(
+            Positive::try_from(t)
+                .map_err(|e| SceneError::new(path.clone(), format!("the adaptive sampling threshold: {e}")))?,
+        );
     }
     if let Some(aovs) = o.aovs {
         r.aov = aovs.iter().map(AovDesc::from).collect();

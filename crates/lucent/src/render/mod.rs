@@ -85,8 +85,12 @@ pub struct RenderReport {
     pub stats: RayStats,
     /// Wall-clock time of this run.
     pub elapsed: Duration,
-    /// Samples per pixel added by this run.
+    /// Samples per pixel added by this run (under adaptive sampling: by
+    /// the pixels that sampled longest).
     pub spp_added: u32,
+    /// Pixel samples taken by this run: width × height × `spp_added`,
+    /// fewer under adaptive sampling.
+    pub pixel_samples: u64,
     /// Samples discarded because their radiance was NaN or infinite.
     pub nonfinite: u64,
 }
@@ -117,6 +121,18 @@ pub enum RenderError {
     /// for.
     #[error("the accumulated film holds the auxiliary images {0}, but the render asks for {1}")]
     AccumulatorAovs(AovSet, AovSet),
+    /// The accumulator's adaptive state does not match the settings.
+    #[error("the accumulated film {} adaptive sampling, but the render {}", if *.0 { "was made with" } else { "was made without" }, if *.0 { "does not use it" } else { "uses it" })]
+    AccumulatorAdaptive(bool),
+    /// Adaptive sampling was asked of a partial render.
+    #[error("adaptive sampling cannot render a range of samples: which pixels stop depends on all the samples before, so parts would not merge into one render; render partial images without it")]
+    AdaptivePartial,
+    /// Adaptive sampling with a sampler that lays samples out in grids.
+    #[error("adaptive sampling needs the sobol or independent sampler: the stratified sampler lays each pixel's samples out as one grid of all of them, which a pixel that stops early would leave incomplete")]
+    AdaptiveStratified,
+    /// The adaptive sampling threshold is not a positive number.
+    #[error("the adaptive sampling threshold must be a positive number, got {0}")]
+    AdaptiveThreshold(f32),
     /// The worker pool could not start.
     #[error("cannot start {0} worker threads: {1}")]
     Threads(usize, String),
@@ -140,7 +156,8 @@ pub enum RenderError {
 /// so the image is bit-identical whatever the number of threads.
 pub fn render(scene: &Scene, settings: &RenderSettings, options: RenderOptions) -> Result<RenderOutput, RenderError> {
     let camera = scene.camera();
-    let mut acc = Accumulator::with_aovs(camera.width(), camera.height(), settings.aovs)?;
+    let mut acc =
+        Accumulator::with_layout(camera.width(), camera.height(), settings.aovs, settings.adaptive.is_some())?;
     let report = render_into(scene, settings, &mut acc, options)?;
     Ok(RenderOutput {
         film: acc.to_film(),
@@ -170,6 +187,9 @@ pub fn render_partial(
 ) -> Result<(PartialFilm, RenderReport), RenderError> {
     if samples.start >= samples.end {
         return Err(PartialError::Empty(samples.start, samples.end).into());
+    }
+    if settings.adaptive.is_some() {
+        return Err(RenderError::AdaptivePartial);
     }
     let camera = scene.camera();
     let mut acc = Accumulator::with_aovs(camera.width(), camera.height(), settings.aovs)?;
@@ -228,6 +248,17 @@ pub fn render_into_with<I: Integrator>(
     }
     if acc.aovs() != settings.aovs {
         return Err(RenderError::AccumulatorAovs(acc.aovs(), settings.aovs));
+    }
+    if acc.is_adaptive() != settings.adaptive.is_some() {
+        return Err(RenderError::AccumulatorAdaptive(acc.is_adaptive()));
+    }
+    if let Some(t) = settings.adaptive {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(RenderError::AdaptiveThreshold(t));
+        }
+        if settings.sampler == crate::sampling::SamplerKind::Stratified {
+            return Err(RenderError::AdaptiveStratified);
+        }
     }
     if options.spp.unwrap_or(settings.spp) == 0 || settings.spp == 0 {
         return Err(RenderError::NoSamples);

@@ -5,6 +5,7 @@
 
 use super::{RenderError, RenderOptions, RenderReport, RenderSettings, CANCEL_PASS_INTERVAL};
 use crate::color::Color;
+use crate::film::adaptive::{is_decision_point, next_decision_point};
 use crate::film::{film_response, Accumulator, Filter, FilterSampler, SplatBand};
 use crate::geometry::{Ray, Vec2, Vec3};
 use crate::integrator::{visible_surface, Integrator, RayStats, PATH_LANES};
@@ -57,8 +58,13 @@ pub(super) fn run<I: Integrator>(
     let granule = if settings.sampler == SamplerKind::Stratified { settings.spp.max(1) } else { 1 };
     // Seconds per sample per pixel, measured on the passes so far.
     let mut seconds_per_spp: Option<f64> = None;
+    // Pixel samples taken by this run, for progress: under adaptive
+    // sampling fewer than pixels × passes' samples.
+    let mut samples_done = 0u64;
 
-    while acc.spp() < target {
+    // (Under adaptive sampling the render ends early once every pixel has
+    // stopped.)
+    while acc.spp() < target && acc.active_pixels() > 0 {
         let remaining = target - acc.spp();
         let elapsed = start.elapsed();
         // Size the pass to end by the next deadline: the time limit or the
@@ -81,6 +87,7 @@ pub(super) fn run<I: Integrator>(
                     1
                 } else {
                     let fit = fit.min(remaining as f64) as u32;
+                    // (Adaptive sampling cuts the pass below.)
                     // Whole runs of the stratified sampler where they fit.
                     if fit >= granule && fit < remaining {
                         fit - fit % granule
@@ -90,34 +97,50 @@ pub(super) fn run<I: Integrator>(
                 }
             }
         };
+        // Adaptive sampling decides at fixed sample counts: a pass ends at
+        // the next one.
+        let pass_spp = match settings.adaptive {
+            Some(_) => pass_spp.min(next_decision_point(acc.spp()) - acc.spp()),
+            None => pass_spp,
+        };
         // What to put back if the pass is cancelled half-way (nothing to
         // copy before the first samples: an empty film).
-        let before = options.cancel.map(|_| (acc.spp() > 0).then(|| acc.raw()));
+        let before = options.cancel.map(|_| (acc.spp() > 0).then(|| acc.clone()));
         let pass_start = Instant::now();
+        // Progress in pixel samples: those taken, over those taken and
+        // those left for the pixels still sampling (honest under adaptive
+        // sampling, where pixels stop).
+        let active = acc.active_pixels() as u64;
         let progress = |rows_done: usize| {
             if let Some(progress) = options.progress {
-                let total = (target - first_spp) as f64;
-                let done = (acc.spp() - first_spp) as f64 + pass_spp as f64 * rows_done as f64 / h as f64;
+                let total = (samples_done + active * remaining as u64) as f64;
+                let done = samples_done as f64 + (active * pass_spp as u64) as f64 * rows_done as f64 / h as f64;
                 let time = options.time_limit.map_or(0.0, |l| start.elapsed().as_secs_f64() / l.as_secs_f64());
-                progress((done / total).max(time).min(1.0));
+                progress((done / total.max(1.0)).max(time).min(1.0));
             }
         };
         let pass = Pass { scene, settings, integrator, filter: &settings.filter, acc, spp: pass_spp };
         let pass_stats = pass.render(&nonfinite, options.cancel, &progress);
         if options.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
             *acc = match before.flatten() {
-                Some(raw) => Accumulator::from_raw(acc.width(), acc.height(), acc.spp(), acc.aovs(), &raw)?,
-                None => Accumulator::with_aovs(acc.width(), acc.height(), acc.aovs())?,
+                Some(before) => before,
+                None => Accumulator::with_layout(acc.width(), acc.height(), acc.aovs(), acc.is_adaptive())?,
             };
             return Err(RenderError::Interrupted);
         }
         stats.merge(&pass_stats);
         acc.add_spp(pass_spp);
+        samples_done += active * pass_spp as u64;
+        if let Some(threshold) = settings.adaptive {
+            if is_decision_point(acc.spp()) {
+                acc.stop_converged(threshold);
+            }
+        }
         seconds_per_spp = Some(pass_start.elapsed().as_secs_f64() / pass_spp as f64);
         let elapsed = start.elapsed();
         let out_of_time =
             options.time_limit.is_some_and(|l| elapsed + Duration::from_secs_f64(seconds_per_spp.unwrap_or(0.0)) > l);
-        let last = acc.spp() >= target || out_of_time;
+        let last = acc.spp() >= target || out_of_time || acc.active_pixels() == 0;
         if let Some(on_pass) = options.on_pass.as_mut() {
             on_pass(acc, &PassInfo { spp: acc.spp(), elapsed, last }).map_err(RenderError::Callback)?;
         }
@@ -129,6 +152,7 @@ pub(super) fn run<I: Integrator>(
         stats,
         elapsed: start.elapsed(),
         spp_added: acc.spp() - first_spp,
+        pixel_samples: samples_done,
         nonfinite: nonfinite.into_inner(),
     })
 }
@@ -167,6 +191,10 @@ impl<I: Integrator> Pass<'_, I> {
         // with the colour's filter weights (`channels` values per lane).
         let aovs = self.acc.aovs();
         let channels = aovs.channel_count();
+        // Adaptive sampling: the odd-numbered samples' colour and weight,
+        // after the AOV channels; only pixels still sampling are traced.
+        let adaptive = self.acc.is_adaptive();
+        let lane_values = channels + if adaptive { 4 } else { 0 };
         // Filter importance sampling: each sample's offset from its pixel
         // centre drawn with density ∝ |f|, its weight the filter's sign.
         // (The filter was validated when the settings were made.)
@@ -177,28 +205,33 @@ impl<I: Integrator> Pass<'_, I> {
                 || {
                     let sampler = Sampler::new(settings.sampler, settings.seed, settings.spp);
                     let band = SplatBand::new(self.filter, w, h, self.acc.stride());
-                    (vec![sampler; PATH_LANES], band, vec![0.0f32; PATH_LANES * channels])
+                    let xs: Vec<u32> = Vec::with_capacity(w as usize);
+                    (vec![sampler; PATH_LANES], band, vec![0.0f32; PATH_LANES * lane_values], xs)
                 },
-                |(samplers, band, aux), y| {
+                |(samplers, band, aux, xs), y| {
                     let mut stats = RayStats::default();
                     if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
                         return stats;
                     }
                     let mut bad = 0;
                     band.start_row(y);
-                    // The row in runs of PATH_LANES pixels, traced a sample
-                    // index at a time: lane j keeps pixel x0 + j (and its
-                    // sampler that pixel's scramble seeds) for the whole
-                    // pass.
+                    // The row's pixels still sampling (all of them, unless
+                    // adaptive sampling stopped some) in runs of PATH_LANES,
+                    // traced a sample index at a time: lane j keeps pixel
+                    // run[j] (and its sampler that pixel's scramble seeds)
+                    // for the whole pass. A path does not depend on its
+                    // lane or on the other lanes.
+                    xs.clear();
+                    xs.extend((0..w).filter(|&x| self.acc.is_active(x, y)));
                     let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); PATH_LANES];
                     let mut film_u = [Vec2::ZERO; PATH_LANES];
                     let mut fis_weight = [1.0f32; PATH_LANES];
                     let mut radiance = [Color::ZERO; PATH_LANES];
-                    for x0 in (0..w).step_by(PATH_LANES) {
-                        let n = (w - x0).min(PATH_LANES as u32) as usize;
+                    for run in xs.chunks(PATH_LANES) {
+                        let n = run.len();
                         for index in first..first + self.spp {
                             for j in 0..n {
-                                let (x, sampler) = (x0 + j as u32, &mut samplers[j]);
+                                let (x, sampler) = (run[j], &mut samplers[j]);
                                 sampler.start_pixel_sample(x, y, index);
                                 let u = sampler.pixel_2d();
                                 let film_pos = match &fis {
@@ -226,8 +259,8 @@ impl<I: Integrator> Pass<'_, I> {
                                 &mut stats,
                             );
                             if channels > 0 {
-                                for (ray, out) in rays[..n].iter().zip(aux.chunks_exact_mut(channels)) {
-                                    aovs.write(&visible_surface(self.scene, ray, &mut stats), out);
+                                for (ray, out) in rays[..n].iter().zip(aux.chunks_exact_mut(lane_values)) {
+                                    aovs.write(&visible_surface(self.scene, ray, &mut stats), &mut out[..channels]);
                                 }
                             }
                             for j in 0..n {
@@ -239,11 +272,17 @@ impl<I: Integrator> Pass<'_, I> {
                                 // The film's response (pbrt-v4's RGBFilm):
                                 // scale, then clamp, per sample.
                                 let l = film_response(l, film_scale, max_component);
-                                let aux = &aux[j * channels..(j + 1) * channels];
+                                let aux = &mut aux[j * lane_values..(j + 1) * lane_values];
+                                if adaptive {
+                                    // The half-buffer of the error estimate:
+                                    // odd-numbered samples only.
+                                    let odd = [l.x, l.y, l.z, 1.0];
+                                    aux[channels..].copy_from_slice(&if index % 2 == 1 { odd } else { [0.0; 4] });
+                                }
                                 if fis.is_some() {
-                                    band.add_own(x0 + j as u32, l, aux, fis_weight[j]);
+                                    band.add_own(run[j], l, aux, fis_weight[j]);
                                 } else {
-                                    band.add(x0 + j as u32, film_u[j], l, aux, self.acc);
+                                    band.add(run[j], film_u[j], l, aux, self.acc);
                                 }
                             }
                         }

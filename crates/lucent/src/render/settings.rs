@@ -52,6 +52,10 @@ pub struct RenderSettings {
     /// the filter covers (false, the default). With the default box filter
     /// of radius ½ both give the same image.
     pub filter_importance: bool,
+    /// Adaptive sampling: stop sampling pixels whose estimated error is
+    /// below this threshold (see [`crate::film::adaptive`]); `None` (the
+    /// default): every pixel takes every sample.
+    pub adaptive: Option<f32>,
 }
 
 /// The light transport algorithms.
@@ -105,6 +109,7 @@ impl RenderSettings {
             max_indirect: None,
             aovs: AovSet::NONE,
             filter_importance: false,
+            adaptive: None,
         }
     }
 }

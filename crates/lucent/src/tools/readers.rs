@@ -100,8 +100,9 @@ impl Reader {
                 // check to the pixel data (a real render compares its own).
                 let word = |i: usize| data.get(i..i + 4).map_or(8, |b| u32::from_le_bytes(b.try_into().unwrap()));
                 let fingerprint = data.get(24..32).map_or(0, |b| u64::from_le_bytes(b.try_into().unwrap()));
-                let aovs = AovSet::from_bits(word(32)).unwrap_or_default();
-                load_checkpoint(&path, fingerprint, word(12), word(16), aovs).is_ok()
+                let flags = word(32);
+                let aovs = AovSet::from_bits(flags & !(1 << 31)).unwrap_or_default();
+                load_checkpoint(&path, fingerprint, word(12), word(16), aovs, flags >> 31 == 1).is_ok()
             }
         }
     }

@@ -165,6 +165,10 @@ pub struct RenderDesc {
     /// false; `lucent render --denoise` turns it on).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub filter_importance: bool,
+    /// Adaptive sampling: stop sampling pixels whose estimated error is
+    /// below this threshold (e.g. 0.01; default: off).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub adaptive: Option<Positive>,
 }
 
 /// The auxiliary images, as named in scene files.
@@ -336,6 +340,7 @@ impl Default for RenderDesc {
             max_indirect: None,
             aov: Vec::new(),
             filter_importance: false,
+            adaptive: None,
         }
     }
 }

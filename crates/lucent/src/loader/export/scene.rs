@@ -391,6 +391,7 @@ fn render(scene: &Scene, s: &RenderSettings) -> RenderDesc {
         max_indirect: s.max_indirect.map(Positive),
         aov: s.aovs.iter().map(AovDesc::from).collect(),
         filter_importance: s.filter_importance,
+        adaptive: s.adaptive.map(Positive),
     }
 }
 
