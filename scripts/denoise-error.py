@@ -49,7 +49,8 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     a = ap.parse_args()
     extra = shlex.split(a.args) + ["--threads", str(a.threads), "--quiet"]
-    tmp = tempfile.mkdtemp(prefix="lucent-denoise-")
+    work = tempfile.TemporaryDirectory(prefix="lucent-denoise-")
+    tmp = work.name
     reference = a.reference
     if reference is None:
         reference = os.path.join(tmp, "reference.exr")

@@ -393,6 +393,7 @@ class Scene:
         denoise_quality: str = "default",
         denoise_aux: str = "prefilter",
         adaptive: Optional[float] = None,
+        filter_importance: Optional[bool] = None,
     ) -> Any:
         """Render the scene; returns a ``(height, width, 3)`` float32 array
         of linear radiance: the values ``lucent render -o image.exr``
@@ -410,6 +411,9 @@ class Scene:
         and normal images rendered for it, with every sample placed in one
         pixel (filter importance sampling), as ``lucent render --denoise``;
         the dict then holds the ``"noisy"`` colour too.
+
+        ``filter_importance=True`` places each sample in one pixel (as
+        ``--filter-importance``; ``denoise`` does it always).
 
         ``adaptive`` is a threshold of adaptive sampling (as ``--adaptive``:
         pixels stop once their estimated error is below it; ``spp`` is then
@@ -449,7 +453,7 @@ class Scene:
             sampler=sampler,
             max_depth=max_depth,
             aovs=None if render_aovs is None else tuple(render_aovs),
-            filter_importance=True if denoise else None,
+            filter_importance=True if denoise else filter_importance,
             adaptive=adaptive,
         )
         source = self._source(**ov)

@@ -288,6 +288,7 @@ impl BxDF for Bxdf {
     }
 
     /// Whether every lobe is a delta: light sampling cannot help.
+    #[inline]
     fn is_specular(&self) -> bool {
         match self {
             Self::Black => false,
@@ -364,6 +365,7 @@ impl Bsdf {
     /// roughness follows the surface's `u` direction (PBRT-v4's
     /// `BSDF(ns, dpdus)`). A `dpdu` that is zero, not finite or parallel to
     /// `ns` falls back to an arbitrary tangent ([`Bsdf::from_normal`]).
+    #[inline]
     pub fn new(ns: Vec3, dpdu: Vec3, bxdf: Bxdf) -> Self {
         Self { frame: shading_frame(ns, dpdu), bxdf }
     }
@@ -419,6 +421,7 @@ impl Bsdf {
 /// The orthonormal frame with normal `ns` and first tangent `dpdu` made
 /// orthogonal to it (Gram–Schmidt), or an arbitrary tangent when `dpdu` is
 /// unusable.
+#[inline]
 pub fn shading_frame(ns: Vec3, dpdu: Vec3) -> Frame {
     let x = dpdu - ns * ns.dot(dpdu);
     let len2 = x.length_squared();

@@ -82,7 +82,7 @@ impl ImageFormat {
 }
 
 /// What an `.exr` output holds besides the colour.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub struct Layers<'a> {
     /// The colour before denoising, as `Noisy.R/G/B`.
     pub noisy: Option<&'a Film>,
@@ -90,13 +90,6 @@ pub struct Layers<'a> {
     pub aovs: &'a AovImages,
     /// Samples taken per pixel (adaptive sampling), as `SampleCount`.
     pub sample_counts: Option<&'a [u32]>,
-}
-
-impl Default for &AovImages {
-    fn default() -> Self {
-        static NONE: AovImages = AovImages { width: 0, height: 0, aovs: super::AovSet::NONE, values: Vec::new() };
-        &NONE
-    }
 }
 
 /// An output image reserved before rendering and written after it.
@@ -187,7 +180,7 @@ impl PendingImage {
         tone_map: ToneMap,
         srgb: bool,
     ) -> Result<(), OutputError> {
-        self.write_layers(film, &Layers { aovs, ..Layers::default() }, tone_map, srgb)
+        self.write_layers(film, &Layers { aovs, noisy: None, sample_counts: None }, tone_map, srgb)
     }
 
     /// [`write_with_aovs`](Self::write_with_aovs) with every extra layer

@@ -89,16 +89,25 @@ impl SplatBand {
 
     /// Add the sample's contribution with filter weight `w` to the sums of
     /// pixel `px` in the band's row `y + k`.
-    #[inline]
+    #[inline(always)]
     fn add_at(&mut self, k: i64, px: usize, l: Color, aux: &[f32], w: f32) {
         let row = (k - self.first) as usize;
         debug_assert!(row < self.rows, "footprint row {k} outside the band");
         let i = (row * self.width as usize + px) * self.stride;
-        let sums = &mut self.sums[i..i + self.stride];
-        for (s, c) in sums.iter_mut().zip(fixed_contribution(l, w)) {
+        let colour: &mut [i64; 4] = (&mut self.sums[i..i + 4]).try_into().expect("4 sums");
+        for (s, c) in colour.iter_mut().zip(fixed_contribution(l, w)) {
             *s += c;
         }
-        for (s, &a) in sums[4..].iter_mut().zip(aux) {
+        if !aux.is_empty() {
+            self.add_aux(i + 4, aux, w);
+        }
+    }
+
+    /// The AOV (and adaptive) channels of [`add_at`](Self::add_at), out of
+    /// line: renders without them never come here.
+    #[inline(never)]
+    fn add_aux(&mut self, at: usize, aux: &[f32], w: f32) {
+        for (s, &a) in self.sums[at..at + aux.len()].iter_mut().zip(aux) {
             *s += fixed_value(a, w);
         }
     }

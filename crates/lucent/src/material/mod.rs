@@ -529,6 +529,7 @@ impl Material {
     /// The path integrator's BSDF at a hit: [`Material::resolve`], then
     /// the resolved material's [`Material::bxdf_at`] in its shading frame
     /// (normal and ∂p/∂u). `None` for an interface.
+    #[inline(always)]
     pub fn bsdf_at(&self, ctx: &MaterialContext, materials: &[Material]) -> Option<Bsdf> {
         let r = self.resolve(ctx, materials)?;
         let tc = TextureContext::new(ctx.p, ctx.n, ctx.uv);
