@@ -12,7 +12,7 @@
 
 use super::path::{material_context, MAX_INTERFACE_SKIPS};
 use super::RayStats;
-use crate::bsdf::Bsdf;
+use crate::bsdf::{Bsdf, Bxdf};
 use crate::color::Color;
 use crate::film::AovSample;
 use crate::geometry::{Ray, Vec2, Vec3};
@@ -25,6 +25,10 @@ pub const MAX_DELTA_BOUNCES: u32 = 16;
 /// Samples of the hemispherical-directional reflectance estimate (a 4 × 4
 /// grid of direction samples, each with its own lobe choice).
 const RHO_SAMPLES: u32 = 16;
+/// The same for the layered BSDFs, whose every sample is a random walk
+/// through the coat (a 2 × 2 grid): the albedo guides a denoiser, and 16
+/// walks per camera sample cost more than the path itself.
+const RHO_SAMPLES_LAYERED: u32 = 4;
 
 /// The [`AovSample`] of camera ray `ray` (its direction need not be unit).
 ///
@@ -91,17 +95,26 @@ pub fn visible_surface(scene: &Scene, ray: &Ray, stats: &mut RayStats) -> AovSam
 /// The hemispherical-directional reflectance ρ(wo) = ∫ f(wo, wi) |cos θi|
 /// dwi, estimated with the BSDF's own sampling on a fixed stratified set
 /// of samples (as pbrt-v4's `BSDF::rho` estimates a surface's albedo for
-/// its G-buffer). A Lambertian surface gives exactly its reflectance, for
-/// every sample: f·cos/pdf = (R/π)·cos/(cos/π).
+/// its G-buffer). A Lambertian surface's is its albedo, taken as it is
+/// (its sampling would give exactly that: f·cos/pdf = (R/π)·cos/(cos/π)
+/// for every sample); the layered BSDFs
+/// (`coated_diffuse`, `coated_conductor`) are estimated from 4 samples
+/// instead of 16.
 pub fn reflectance(bsdf: &Bsdf, wo: Vec3) -> Color {
+    let (count, side) = match bsdf.bxdf() {
+        Bxdf::Diffuse(d) => return d.r,
+        Bxdf::CoatedDiffuse(_) | Bxdf::CoatedConductor(_) => (RHO_SAMPLES_LAYERED, 2),
+        _ => (RHO_SAMPLES, 4),
+    };
     let mut sum = Color::ZERO;
     let n = bsdf.frame().z;
-    for i in 0..RHO_SAMPLES {
-        // A 4 × 4 grid of directions; the lobe choice runs through the
-        // strata in another order so that every lobe meets every part of
-        // the grid.
-        let u = Vec2::new(((i % 4) as f32 + 0.5) / 4.0, ((i / 4) as f32 + 0.5) / 4.0);
-        let uc = (((i * 7) % RHO_SAMPLES) as f32 + 0.5) / RHO_SAMPLES as f32;
+    for i in 0..count {
+        // A grid of directions; the lobe choice runs through the strata in
+        // another order (7 is prime to both counts) so that every lobe
+        // meets every part of the grid.
+        let s = side as f32;
+        let u = Vec2::new(((i % side) as f32 + 0.5) / s, ((i / side) as f32 + 0.5) / s);
+        let uc = (((i * 7) % count) as f32 + 0.5) / count as f32;
         if let Some(s) = bsdf.sample_f(wo, uc, u).filter(|s| s.pdf > 0.0) {
             let value = s.f * s.wi.dot(n).abs() / s.pdf;
             if value.is_finite() {
@@ -109,5 +122,5 @@ pub fn reflectance(bsdf: &Bsdf, wo: Vec3) -> Color {
             }
         }
     }
-    (sum / RHO_SAMPLES as f32).max(Color::ZERO)
+    (sum / count as f32).max(Color::ZERO)
 }
