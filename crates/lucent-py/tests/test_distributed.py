@@ -233,6 +233,19 @@ def test_render_is_bit_identical_to_local(client, tmp_path):
     assert identical(some.image(), scene.render_partial(2, 6, progress=False, **SIZE).image())
 
 
+def test_aovs_travel_through_a_distributed_render(client, tmp_path):
+    scene = lucent.load(write_scene(tmp_path))
+    local = scene.render(progress=False, aovs=["albedo", "depth"], **SIZE)
+    part = ld.render(
+        scene, client, chunk=3, progress=False, return_partial=True, aovs=["albedo", "depth"],
+        cache_dir=str(tmp_path / "cache"), **SIZE,
+    )
+    layers = part.aovs()
+    assert identical(part.image(), local["color"])
+    assert layers["albedo"].tobytes() == local["albedo"].tobytes()
+    assert layers["depth"].tobytes() == local["depth"].tobytes()
+
+
 def test_dict_scene_is_bit_identical(client, tmp_path):
     d = lucent.load(write_scene(tmp_path)).to_dict()
     scene = lucent.Scene.from_dict(d, base_dir=tmp_path)

@@ -205,17 +205,28 @@ class Scene:
         integrator: Optional[str] = None,
         sampler: Optional[str] = None,
         max_depth: Optional[int] = None,
+        filter_importance: Optional[bool] = None,
         **render_options: Any,
     ) -> int:
         """The fingerprint (an int) of everything that decides the samples
         of a render with these keyword arguments (those of :meth:`render`;
         ``threads``, ``time`` and ``progress`` do not matter): partial
         renders merge only when their fingerprints agree. It does not depend
-        on where the scene's directory lies."""
-        unknown = set(render_options) - {"threads", "time", "progress"}
+        on where the scene's directory lies; nor on ``aovs``, which the
+        parts record themselves."""
+        unknown = set(render_options) - {"threads", "time", "progress", "aovs"}
         if unknown:
             raise TypeError(f"fingerprint() got unexpected keyword arguments: {', '.join(sorted(unknown))}")
-        ov = dict(width=width, height=height, spp=spp, seed=seed, integrator=integrator, sampler=sampler, max_depth=max_depth)
+        ov = dict(
+            width=width,
+            height=height,
+            spp=spp,
+            seed=seed,
+            integrator=integrator,
+            sampler=sampler,
+            max_depth=max_depth,
+            filter_importance=filter_importance,
+        )
         return self._source(**ov).fingerprint()
 
     def __repr__(self) -> str:

@@ -91,7 +91,7 @@ def sample_ranges(start: int, end: int, chunk: int) -> List[Tuple[int, int]]:
 
 
 #: The render settings besides size, samples and seed that a job carries.
-_OVERRIDES = ("integrator", "sampler", "max_depth")
+_OVERRIDES = ("integrator", "sampler", "max_depth", "aovs", "filter_importance")
 
 
 def _render_kwargs(width, height, spp, seed, overrides) -> Dict[str, Any]:
