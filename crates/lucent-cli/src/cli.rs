@@ -197,13 +197,18 @@ pub struct SceneOverrides {
     /// the scene's `adaptive`).
     #[arg(long, value_name = "THRESHOLD", value_parser = positive_threshold)]
     pub adaptive: Option<f32>,
+    /// Path tracer: scale down every contribution of indirect light whose
+    /// largest channel exceeds MAX to MAX (tames the fireflies of caustics,
+    /// at some bias; overrides the scene's `max_indirect`).
+    #[arg(long, value_name = "MAX", value_parser = positive_threshold)]
+    pub max_indirect: Option<f32>,
 }
 
-/// `--adaptive` values: a finite number > 0.
+/// `--adaptive` and `--max-indirect` values: a finite number > 0.
 fn positive_threshold(s: &str) -> Result<f32, String> {
     match s.parse::<f32>() {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
-        _ => Err(format!("expected a threshold > 0 (e.g. 0.01), got '{s}'")),
+        _ => Err(format!("expected a number > 0, got '{s}'")),
     }
 }
 

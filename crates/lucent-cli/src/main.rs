@@ -25,6 +25,10 @@ use cli::{Cli, Command, RenderArgs};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+/// The clamp of indirect light that `--denoise` applies where the scene
+/// sets none.
+const DENOISE_MAX_INDIRECT: f32 = 10.0;
+
 /// The showcase scene, built in so that `lucent render` works with no file.
 pub const BUILTIN_SCENE: &str = include_str!("../../../scenes/showcase.toml");
 
@@ -56,7 +60,14 @@ fn run_render(args: &RenderArgs) -> Result<(), String> {
     // sampling.
     let mut overrides = args.overrides.clone();
     overrides.filter_importance |= args.denoise.denoise;
-    let source = source::load(args.scene.as_deref(), &overrides, &args.import)?;
+    let source = source::load_with(args.scene.as_deref(), &overrides, &args.import, |o| {
+        // A denoiser turns fireflies into blotches: clamp indirect light
+        // at 10 unless the scene or --max-indirect sets a clamp
+        // (docs/denoising.md, "Fireflies", has the measurements).
+        if args.denoise.denoise {
+            o.default_max_indirect = Some(DENOISE_MAX_INDIRECT);
+        }
+    })?;
     warn(&source.loaded.scene, args.quiet);
     let out_path = args.output.clone().unwrap_or_else(|| default_output(args.scene.as_deref()));
     if args.samples.is_some() || partial::is_part(&out_path) {

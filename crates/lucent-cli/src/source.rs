@@ -11,11 +11,22 @@ use std::path::Path;
 /// Load and build the scene at `path` (the built-in showcase when `None`),
 /// with the command line's overrides applied.
 pub fn load(path: Option<&Path>, overrides: &SceneOverrides, import: &ImportArgs) -> Result<SceneSource, String> {
+    load_with(path, overrides, import, |_| {})
+}
+
+/// [`load`], with the library's overrides adjusted by `adjust` first.
+pub fn load_with(
+    path: Option<&Path>,
+    overrides: &SceneOverrides,
+    import: &ImportArgs,
+    adjust: impl FnOnce(&mut lucent::loader::SceneOverrides),
+) -> Result<SceneSource, String> {
     if !path.is_some_and(is_pbrt_path) && (import.strict || import.env.is_some()) {
         return Err("--strict and --env apply to pbrt-v4 scenes (.pbrt) only".into());
     }
     check_size(overrides)?;
-    let o = library_overrides(overrides, import);
+    let mut o = library_overrides(overrides, import);
+    adjust(&mut o);
     match path {
         Some(p) => SceneSource::open(p, &o),
         None => {
@@ -46,6 +57,8 @@ fn library_overrides(o: &SceneOverrides, import: &ImportArgs) -> lucent::loader:
         aovs: o.aov,
         filter_importance: o.filter_importance.then_some(true),
         adaptive: o.adaptive,
+        max_indirect: o.max_indirect,
+        default_max_indirect: None,
         strict: import.strict,
         environment: import.env.clone(),
     }

@@ -227,5 +227,5 @@ fn adaptive_sampling_reports_its_samples_and_refuses_parts() {
     let e = run(d, &["render", "s.toml", "-o", "p.lpart", "--samples", "0..4", "--adaptive", "0.05"], None);
     assert_error(&e, &["adaptive sampling cannot render a range of samples"]);
     let e = run(d, &["render", "s.toml", "-o", "p.exr", "--adaptive", "0"], None);
-    assert_fails_with(&e, 2, &["expected a threshold > 0"]);
+    assert_fails_with(&e, 2, &["expected a number > 0"]);
 }

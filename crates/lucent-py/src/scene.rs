@@ -39,6 +39,7 @@ fn overrides(
     aovs: Option<Vec<String>>,
     filter_importance: Option<bool>,
     adaptive: Option<f32>,
+    default_max_indirect: Option<f32>,
 ) -> PyResult<SceneOverrides> {
     if adaptive.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
         return Err(PyValueError::new_err("adaptive must be a threshold > 0 (e.g. 0.01)"));
@@ -86,6 +87,8 @@ fn overrides(
         aovs,
         filter_importance,
         adaptive,
+        max_indirect: None,
+        default_max_indirect,
         strict,
         environment: env,
     })
@@ -97,7 +100,7 @@ impl Source {
     /// `.pbrt.gz`) with the given overrides; `strict` and `env` are for
     /// pbrt-v4 scenes. The GIL is released while loading.
     #[staticmethod]
-    #[pyo3(signature = (path, *, width=None, height=None, spp=None, seed=None, integrator=None, sampler=None, max_depth=None, strict=false, env=None, aovs=None, filter_importance=None, adaptive=None))]
+    #[pyo3(signature = (path, *, width=None, height=None, spp=None, seed=None, integrator=None, sampler=None, max_depth=None, strict=false, env=None, aovs=None, filter_importance=None, adaptive=None, default_max_indirect=None))]
     #[allow(clippy::too_many_arguments)]
     fn open(
         py: Python<'_>,
@@ -114,6 +117,7 @@ impl Source {
         aovs: Option<Vec<String>>,
         filter_importance: Option<bool>,
         adaptive: Option<f32>,
+        default_max_indirect: Option<f32>,
     ) -> PyResult<Source> {
         let o = overrides(
             width,
@@ -128,6 +132,7 @@ impl Source {
             aovs,
             filter_importance,
             adaptive,
+            default_max_indirect,
         )?;
         let inner = py.detach(|| SceneSource::open(&path, &o)).map_err(|e| scene_error(py, &e))?;
         Ok(Source { inner, from_text: false })
@@ -137,7 +142,7 @@ impl Source {
     /// it in messages and relative paths in it resolve against its
     /// directory (it need not exist).
     #[staticmethod]
-    #[pyo3(signature = (text, path, *, width=None, height=None, spp=None, seed=None, integrator=None, sampler=None, max_depth=None, aovs=None, filter_importance=None, adaptive=None))]
+    #[pyo3(signature = (text, path, *, width=None, height=None, spp=None, seed=None, integrator=None, sampler=None, max_depth=None, aovs=None, filter_importance=None, adaptive=None, default_max_indirect=None))]
     #[allow(clippy::too_many_arguments)]
     fn from_json(
         py: Python<'_>,
@@ -153,6 +158,7 @@ impl Source {
         aovs: Option<Vec<String>>,
         filter_importance: Option<bool>,
         adaptive: Option<f32>,
+        default_max_indirect: Option<f32>,
     ) -> PyResult<Source> {
         let o = overrides(
             width,
@@ -167,6 +173,7 @@ impl Source {
             aovs,
             filter_importance,
             adaptive,
+            default_max_indirect,
         )?;
         let inner = py
             .detach(|| SceneSource::from_file(SceneFile::parse(text, SceneFormat::Json, Some(path))?, &o))

@@ -21,7 +21,19 @@ OBJECT_KINDS = ("sphere", "plane", "triangle", "quad", "disk", "cylinder", "mesh
 #: The light kinds of :meth:`Scene.add_light` and their tables.
 LIGHT_KINDS = {"point": "point_light", "spot": "spot_light", "directional": "directional_light"}
 #: Keyword arguments of a render that change the scene's own settings.
-_OVERRIDES = ("width", "height", "spp", "seed", "integrator", "sampler", "max_depth", "aovs", "filter_importance", "adaptive")
+_OVERRIDES = (
+    "width",
+    "height",
+    "spp",
+    "seed",
+    "integrator",
+    "sampler",
+    "max_depth",
+    "aovs",
+    "filter_importance",
+    "adaptive",
+    "default_max_indirect",
+)
 #: The auxiliary images a render can return.
 AOVS = ("albedo", "normal", "position", "depth")
 #: The name under which a dict scene's text is given to the loader: it
@@ -420,8 +432,9 @@ class Scene:
         (see :func:`lucent.denoise`; ``denoise_quality`` and
         ``denoise_aux`` are its ``quality`` and ``aux``), guided by albedo
         and normal images rendered for it, with every sample placed in one
-        pixel (filter importance sampling), as ``lucent render --denoise``;
-        the dict then holds the ``"noisy"`` colour too.
+        pixel (filter importance sampling) and indirect light clamped at 10
+        unless the scene sets ``max_indirect``, as ``lucent render
+        --denoise``; the dict then holds the ``"noisy"`` colour too.
 
         ``filter_importance=True`` places each sample in one pixel (as
         ``--filter-importance``; ``denoise`` does it always).
@@ -466,6 +479,9 @@ class Scene:
             aovs=None if render_aovs is None else tuple(render_aovs),
             filter_importance=True if denoise else filter_importance,
             adaptive=adaptive,
+            # A denoiser turns fireflies into blotches: indirect light is
+            # clamped at 10 unless the scene sets a clamp (as --denoise).
+            default_max_indirect=10.0 if denoise else None,
         )
         source = self._source(**ov)
         acc = source.accumulation()

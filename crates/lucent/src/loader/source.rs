@@ -40,6 +40,13 @@ pub struct SceneOverrides {
     pub filter_importance: Option<bool>,
     /// Adaptive sampling's threshold (replacing the scene's `adaptive`).
     pub adaptive: Option<f32>,
+    /// The path tracer's clamp of indirect light (replacing the scene's
+    /// `max_indirect`).
+    pub max_indirect: Option<f32>,
+    /// The clamp of indirect light where neither the scene nor
+    /// [`max_indirect`](Self::max_indirect) sets one (`lucent render
+    /// --denoise` asks for 10, as Blender's Cycles clamps by default).
+    pub default_max_indirect: Option<f32>,
     /// pbrt-v4 scenes only: every importer warning is an error.
     pub strict: bool,
     /// pbrt-v4 scenes only: the image for every `infinite` light with a
@@ -104,6 +111,7 @@ impl SceneSource {
             s.aovs = overrides.aovs.unwrap_or(s.aovs);
             s.filter_importance = overrides.filter_importance.unwrap_or(s.filter_importance);
             s.adaptive = overrides.adaptive.or(s.adaptive);
+            s.max_indirect = overrides.max_indirect.or(s.max_indirect).or(overrides.default_max_indirect);
             return Ok(Self { loaded, path: Some(path.to_owned()), key: "pbrt-v4".into(), pbrt: true });
         }
         Self::from_file(SceneFile::load(path)?, overrides)
@@ -225,6 +233,14 @@ fn apply(file: &mut SceneFile, o: &SceneOverrides) -> Result<(), SceneError> {
     if let Some(fis) = o.filter_importance {
         r.filter_importance = fis;
     }
+    if let Some(m) = o.max_indirect {
+        r.max_indirect =
+            Some(Positive::try_from(m).map_err(|e| SceneError::new(path.clone(), format!("max_indirect: {e}")))?);
+    }
+    if let (None, Some(m)) = (r.max_indirect, o.default_max_indirect) {
+        r.max_indirect =
+            Some(Positive::try_from(m).map_err(|e| SceneError::new(path.clone(), format!("max_indirect: {e}")))?);
+    }
     if let Some(t) = o.adaptive {
         r.adaptive = Some(
             Positive::try_from(t)
@@ -299,6 +315,43 @@ mod tests {
         assert_ne!(moved.fingerprint().unwrap(), here.fingerprint().unwrap());
         let wide = SceneSource::open(&write_scene(b.path(), SCENE, TRI), &SceneOverrides { width: Some(9), ..none });
         assert_ne!(wide.unwrap().fingerprint().unwrap(), here.fingerprint().unwrap());
+    }
+
+    /// The render overrides of issue 29: AOVs change no sample (not in the
+    /// fingerprint); filter importance sampling, adaptive sampling and the
+    /// clamp do; the default clamp applies only where none is set.
+    #[test]
+    fn aovs_fis_adaptive_and_clamp_overrides() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = write_scene(dir.path(), SCENE, TRI);
+        let open = |o: SceneOverrides| SceneSource::open(&path, &o).unwrap();
+        let plain = open(SceneOverrides::default());
+        let aovs = open(SceneOverrides { aovs: Some(AovSet::of(&[crate::film::Aov::Depth])), ..Default::default() });
+        assert_eq!(aovs.loaded.settings.aovs.to_string(), "depth");
+        assert_eq!(aovs.fingerprint().unwrap(), plain.fingerprint().unwrap());
+        let fis = open(SceneOverrides { filter_importance: Some(true), ..Default::default() });
+        assert!(fis.loaded.settings.filter_importance);
+        assert_ne!(fis.fingerprint().unwrap(), plain.fingerprint().unwrap());
+        let adaptive = open(SceneOverrides { adaptive: Some(0.02), ..Default::default() });
+        assert_eq!(adaptive.loaded.settings.adaptive, Some(0.02));
+        assert_ne!(adaptive.fingerprint().unwrap(), plain.fingerprint().unwrap());
+        let defaulted = open(SceneOverrides { default_max_indirect: Some(10.0), ..Default::default() });
+        assert_eq!(defaulted.loaded.settings.max_indirect, Some(10.0));
+        let clamped = SCENE.replace("[render]\n", "[render]\nmax_indirect = 3\n");
+        let own = SceneSource::open(
+            &write_scene(dir.path(), &clamped, TRI),
+            &SceneOverrides { default_max_indirect: Some(10.0), ..Default::default() },
+        )
+        .unwrap();
+        assert_eq!(own.loaded.settings.max_indirect, Some(3.0));
+        let given = SceneSource::open(
+            &write_scene(dir.path(), &clamped, TRI),
+            &SceneOverrides { max_indirect: Some(5.0), default_max_indirect: Some(10.0), ..Default::default() },
+        )
+        .unwrap();
+        assert_eq!(given.loaded.settings.max_indirect, Some(5.0));
+        let e = SceneSource::open(&path, &SceneOverrides { adaptive: Some(-1.0), ..Default::default() }).unwrap_err();
+        assert!(e.to_string().contains("adaptive sampling threshold"), "{e}");
     }
 
     #[test]
