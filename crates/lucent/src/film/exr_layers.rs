@@ -69,6 +69,16 @@ pub fn write(out: &mut (impl Write + std::io::Seek), film: &Film, layers: &Layer
 pub fn read(path: &Path) -> Result<(Film, AovImages), ExrError> {
     use exr::prelude::*;
     let name = path.display().to_string();
+    // The size first, from the header alone: a file that claims a huge
+    // image is refused before anything is allocated for it.
+    let meta = exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|e| ExrError::Read { path: name.clone(), message: e.to_string() })?;
+    for header in meta.headers.iter() {
+        let size = header.layer_size;
+        let (w, h) =
+            (u32::try_from(size.width()).unwrap_or(u32::MAX), u32::try_from(size.height()).unwrap_or(u32::MAX));
+        super::check_image_size(w, h).map_err(|e| ExrError::Read { path: name.clone(), message: e.to_string() })?;
+    }
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
