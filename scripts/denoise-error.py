@@ -12,7 +12,8 @@ Without --reference, lucent renders one with --reference-spp samples
 (filter importance sampling, like the denoised renders). Intel Open Image
 Denoise must be findable (pip install pyoidn, or LUCENT_OIDN). Prints a
 Markdown table; every render uses --filter-importance so that noisy and
-denoised images are the same estimator.
+denoised images are the same estimator (the denoised ones also get the
+clamp of indirect light that --denoise applies by default).
 """
 
 import argparse
@@ -43,6 +44,7 @@ def main():
     ap.add_argument("--scene", required=True)
     ap.add_argument("--reference")
     ap.add_argument("--reference-spp", type=int, default=4096)
+    ap.add_argument("--keep-reference", help="where to keep the reference lucent renders (to reuse with --reference)")
     ap.add_argument("--spp", default="4,16,64")
     ap.add_argument("--noisy-spp", default="4,16,64,256,1024")
     ap.add_argument("--args", default="", help="extra render arguments (size, --env ...)")
@@ -53,7 +55,7 @@ def main():
     tmp = work.name
     reference = a.reference
     if reference is None:
-        reference = os.path.join(tmp, "reference.exr")
+        reference = a.keep_reference or os.path.join(tmp, "reference.exr")
         t = time.time()
         run([a.lucent, "render", a.scene, "-o", reference, "--spp", str(a.reference_spp), "--filter-importance", *extra])
         print(f"reference: {a.reference_spp} spp in {time.time() - t:.0f} s", file=sys.stderr)
