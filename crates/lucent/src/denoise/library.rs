@@ -66,7 +66,6 @@ pub(super) struct Api {
     pub commit_device: unsafe extern "C" fn(Device),
     pub release_device: unsafe extern "C" fn(Device),
     pub set_device_int: unsafe extern "C" fn(Device, *const c_char, c_int),
-    pub get_device_int: unsafe extern "C" fn(Device, *const c_char) -> c_int,
     pub get_device_error: unsafe extern "C" fn(Device, *mut *const c_char) -> c_int,
     pub new_filter: unsafe extern "C" fn(Device, *const c_char) -> Filter,
     pub set_shared_filter_image:
@@ -151,7 +150,6 @@ impl Library {
             commit_device: symbol!("oidnCommitDevice"),
             release_device: symbol!("oidnReleaseDevice"),
             set_device_int: symbol!("oidnSetDeviceInt"),
-            get_device_int: symbol!("oidnGetDeviceInt"),
             get_device_error: symbol!("oidnGetDeviceError"),
             new_filter: symbol!("oidnNewFilter"),
             set_shared_filter_image: symbol!("oidnSetSharedFilterImage"),

@@ -276,14 +276,6 @@ impl<'a> Device<'a> {
         }
     }
 
-    /// OIDN's major and minor version, e.g. `20501` for 2.5.1.
-    #[allow(dead_code)]
-    fn version(&self) -> i32 {
-        let name = CString::new("version").expect("no NUL");
-        // SAFETY: a live device and a NUL-terminated parameter name.
-        unsafe { (self.library.api.get_device_int)(self.handle, name.as_ptr()) }
-    }
-
     /// Run one `RT` filter on `w × h` images of three floats per pixel,
     /// each `(name, pointer)` of `images` a buffer of `3·w·h` floats that
     /// lives until this returns.
