@@ -465,9 +465,10 @@ class Scene:
         render_aovs = aovs
         if denoise:
             if denoise_aux != "none":
-                base = list(aovs) if aovs is not None else None
-                # The scene's own list is kept too: render with both.
-                render_aovs = sorted(set(base or []) | {"albedo", "normal"}, key=AOVS.index)
+                # The guides, with the layers asked for (without a list only
+                # the denoised image is returned, so the scene's own list
+                # does not matter).
+                render_aovs = sorted(set(aovs or []) | {"albedo", "normal"}, key=AOVS.index)
         ov = dict(
             width=width,
             height=height,
