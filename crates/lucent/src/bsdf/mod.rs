@@ -30,8 +30,10 @@
 //! [`PlasticBxdf`] (diffuse under a dielectric coat, after Weidlich &
 //! Wilkie 2007), the stochastic layered BxDFs [`CoatedDiffuseBxdf`] and
 //! [`CoatedConductorBxdf`] (PBRT-v4's `LayeredBxDF`) and [`PhongBxdf`] (the
-//! classic model made energy conserving), built on [`fresnel`] and the
-//! anisotropic GGX distribution of [`microfacet`].
+//! classic model made energy conserving), and glTF 2.0's
+//! [`MetallicRoughnessBxdf`] (Appendix B with the KHR material extensions),
+//! built on [`fresnel`] and the anisotropic GGX distribution of
+//! [`microfacet`].
 //!
 //! Anisotropic roughness is oriented by the local frame: `x` is the
 //! surface's ∂p/∂u made orthogonal to the shading normal (see
@@ -47,9 +49,11 @@ mod diffuse;
 mod diffuse_transmission;
 pub mod fresnel;
 mod layered;
+mod metallic_roughness;
 pub mod microfacet;
 mod phong;
 mod plastic;
+mod sheen;
 #[cfg(test)]
 mod tests;
 mod thin_dielectric;
@@ -59,6 +63,7 @@ pub use dielectric::DielectricBxdf;
 pub use diffuse::DiffuseBxdf;
 pub use diffuse_transmission::DiffuseTransmissionBxdf;
 pub use layered::{CoatedConductorBxdf, CoatedDiffuseBxdf, LayeredBxdf};
+pub use metallic_roughness::MetallicRoughnessBxdf;
 pub use microfacet::{roughness_to_alpha, TrowbridgeReitz};
 pub use phong::PhongBxdf;
 pub use plastic::PlasticBxdf;
@@ -178,6 +183,8 @@ pub enum Bxdf {
     CoatedDiffuse(CoatedDiffuseBxdf),
     /// A conductor under a dielectric coat, evaluated stochastically.
     CoatedConductor(CoatedConductorBxdf),
+    /// glTF 2.0's metallic-roughness BRDF with the KHR material extensions.
+    MetallicRoughness(MetallicRoughnessBxdf),
 }
 
 impl Bxdf {
@@ -251,6 +258,7 @@ impl BxDF for Bxdf {
             Self::DiffuseTransmission(b) => b.f(wo, wi),
             Self::CoatedDiffuse(b) => b.f(wo, wi),
             Self::CoatedConductor(b) => b.f(wo, wi),
+            Self::MetallicRoughness(b) => b.f(wo, wi),
         }
     }
 
@@ -268,6 +276,7 @@ impl BxDF for Bxdf {
             Self::DiffuseTransmission(b) => b.sample_f(wo, uc, u),
             Self::CoatedDiffuse(b) => b.sample_f(wo, uc, u),
             Self::CoatedConductor(b) => b.sample_f(wo, uc, u),
+            Self::MetallicRoughness(b) => b.sample_f(wo, uc, u),
         }
     }
 
@@ -284,6 +293,7 @@ impl BxDF for Bxdf {
             Self::DiffuseTransmission(b) => b.pdf(wo, wi),
             Self::CoatedDiffuse(b) => b.pdf(wo, wi),
             Self::CoatedConductor(b) => b.pdf(wo, wi),
+            Self::MetallicRoughness(b) => b.pdf(wo, wi),
         }
     }
 
@@ -301,6 +311,7 @@ impl BxDF for Bxdf {
             Self::DiffuseTransmission(b) => b.is_specular(),
             Self::CoatedDiffuse(b) => b.is_specular(),
             Self::CoatedConductor(b) => b.is_specular(),
+            Self::MetallicRoughness(b) => b.is_specular(),
         }
     }
 
@@ -317,6 +328,7 @@ impl BxDF for Bxdf {
             Self::Plastic(b) => b.regularize(),
             Self::CoatedDiffuse(b) => b.regularize(),
             Self::CoatedConductor(b) => b.regularize(),
+            Self::MetallicRoughness(b) => b.regularize(),
         }
     }
 }

@@ -246,6 +246,12 @@ fn chi2_cases() -> Vec<Chi2Case> {
         let b = Bxdf::diffuse_transmission(Color::new(0.5, 0.3, 0.1), Color::new(0.2, 0.6, 0.3));
         add(format!("diffuse transmission wo{k}"), b, wo);
     }
+    let mr_wos = [wo_at(0.95, 0.3), wo_at(0.5, 1.0), wo_at(0.1, 2.0), wo_at(-0.6, 0.5)];
+    for (name, b) in mr_configs().into_iter().filter(|(_, b)| !b.is_specular()) {
+        for (k, &wo) in mr_wos.iter().enumerate() {
+            add(format!("{name} wo{k}"), b, wo);
+        }
+    }
     v
 }
 
@@ -402,6 +408,9 @@ fn all_bxdfs() -> Vec<(&'static str, Bxdf)> {
         ("thin dielectric", Bxdf::thin_dielectric(1.5)),
         ("diffuse transmission", Bxdf::diffuse_transmission(Color::new(0.5, 0.3, 0.1), Color::new(0.2, 0.6, 0.3))),
     ]
+    .into_iter()
+    .chain(mr_configs())
+    .collect()
 }
 
 fn aniso_conductor(ax: f32, ay: f32) -> Bxdf {
@@ -515,7 +524,16 @@ fn delta_lobes_have_no_density() {
     let specular: Vec<_> = all_bxdfs().into_iter().filter(|(_, b)| b.is_specular()).map(|(n, _)| n).collect();
     assert_eq!(
         specular,
-        ["conductor mirror", "dielectric smooth", "dielectric η1", "phong mirror only", "thin dielectric"]
+        [
+            "conductor mirror",
+            "dielectric smooth",
+            "dielectric η1",
+            "phong mirror only",
+            "thin dielectric",
+            "mr smooth metal",
+            "mr smooth thin glass",
+            "mr smooth glass"
+        ]
     );
 }
 
@@ -548,6 +566,15 @@ fn reflection_is_reciprocal_and_transmission_generalised_reciprocal() {
             } else if let Bxdf::DiffuseTransmission(_) = b {
                 // T/π both ways.
                 assert_eq!(a, c, "{name}");
+            } else if let Bxdf::MetallicRoughness(m) = b {
+                // Thin: symmetric; refractive: as the dielectric, η = ior.
+                let eta_side = |w: Vec3| if m.thin || w.z > 0.0 { 1.0 } else { m.ior };
+                let lhs = a / (eta_side(wo) * eta_side(wo));
+                let rhs = c / (eta_side(wi) * eta_side(wi));
+                for k in 0..3 {
+                    let err = (lhs[k] - rhs[k]).abs() / lhs[k].abs().max(rhs[k].abs()).max(1e-2);
+                    assert!(err < 1e-3, "{name}: {lhs} vs {rhs}");
+                }
             } else {
                 assert_eq!(a, Color::ZERO, "{name}: reflection-only BxDF transmits");
             }
@@ -848,10 +875,16 @@ fn sampled_albedo_matches_quadrature_of_f() {
         ("dielectric α0.5 inside", Bxdf::dielectric(1.5, 0.5, Color::ONE), wo_at(-0.8, 0.3)),
         ("plastic α0.3", Bxdf::plastic(Color::new(0.9, 0.5, 0.1), 1.5, 0.3), wo_at(0.4, 0.3)),
         ("phong n20", Bxdf::phong(Color::new(0.3, 0.2, 0.1), 0.6, 20.0, 0.0), wo_at(0.4, 0.3)),
+        ("mr dielectric", mr_config("mr dielectric"), wo_at(0.4, 0.3)),
+        ("mr thin transmission", mr_config("mr thin transmission"), wo_at(0.6, 0.3)),
+        ("mr refraction inside", mr_config("mr refraction"), wo_at(-0.8, 0.3)),
+        ("mr mixed", mr_config("mr mixed"), wo_at(0.5, 0.3)),
+        ("mr sheen grazing", mr_config("mr sheen"), wo_at(0.2, 0.3)),
     ];
     for (name, b, wo) in cases {
         let eta = match b {
             Bxdf::Dielectric(d) => d.eta,
+            Bxdf::MetallicRoughness(m) if !m.thin => m.ior,
             _ => 1.0,
         };
         let g = |wi: Vec3| {
@@ -1182,4 +1215,560 @@ fn plastic_approximates_coated_diffuse() {
     eprintln!("largest albedo difference {worst:.4}");
     // The documented figure (0.24, at α = 0.4), with statistical margin.
     assert!(worst < 0.26, "{worst}");
+}
+
+// ---------------------------------------------------------------------------
+// glTF metallic-roughness.
+
+/// A metallic-roughness BxDF: a white, rough, non-metallic dielectric
+/// changed by `set`.
+fn mr(set: impl FnOnce(&mut MetallicRoughnessBxdf)) -> Bxdf {
+    let mut m = MetallicRoughnessBxdf { metallic: 0.0, alpha: 0.3, ..Default::default() };
+    set(&mut m);
+    Bxdf::MetallicRoughness(m)
+}
+
+/// The metallic-roughness parameter sets of the tests (the ones that are
+/// not specular also run the χ² test).
+fn mr_configs() -> Vec<(&'static str, Bxdf)> {
+    let gold = Color::new(1.0, 0.766, 0.336);
+    vec![
+        (
+            "mr diffuse",
+            mr(|m| {
+                m.base_color = Color::new(0.8, 0.5, 0.2);
+                m.specular = 0.0;
+            }),
+        ),
+        ("mr dielectric", mr(|m| m.base_color = Color::new(0.7, 0.4, 0.2))),
+        (
+            "mr metal",
+            mr(|m| {
+                m.base_color = gold;
+                m.metallic = 1.0;
+                m.alpha = 0.2;
+            }),
+        ),
+        (
+            "mr thin transmission",
+            mr(|m| {
+                m.base_color = Color::new(0.9, 0.8, 0.5);
+                m.alpha = 0.25;
+                m.transmission = 0.8;
+                m.thin = true;
+            }),
+        ),
+        (
+            "mr refraction",
+            mr(|m| {
+                m.base_color = Color::new(0.9, 0.9, 0.8);
+                m.transmission = 1.0;
+                m.thin = false;
+            }),
+        ),
+        (
+            "mr clearcoat",
+            mr(|m| {
+                m.base_color = Color::new(0.6, 0.1, 0.1);
+                m.alpha = 0.5;
+                m.clearcoat = 1.0;
+                m.clearcoat_alpha = 0.05;
+            }),
+        ),
+        (
+            "mr sheen",
+            mr(|m| {
+                m.base_color = Color::new(0.3, 0.2, 0.6);
+                m.alpha = 0.6;
+                m.sheen_color = Color::new(0.9, 0.8, 0.7);
+                m.sheen_alpha = 0.3;
+            }),
+        ),
+        (
+            "mr mixed",
+            mr(|m| {
+                m.base_color = Color::new(0.8, 0.6, 0.4);
+                m.metallic = 0.4;
+                m.alpha = 0.15;
+                m.ior = 1.8;
+                m.specular = 0.7;
+                m.specular_color = Color::new(1.0, 0.5, 2.0);
+                m.transmission = 0.3;
+                m.thin = false;
+                m.clearcoat = 0.5;
+                m.clearcoat_alpha = 0.1;
+                m.sheen_color = Color::splat(0.5);
+                m.sheen_alpha = 0.5;
+            }),
+        ),
+        (
+            "mr smooth plastic",
+            mr(|m| {
+                m.base_color = Color::new(0.7, 0.4, 0.2);
+                m.alpha = 0.0;
+            }),
+        ),
+        (
+            "mr smooth coat over rough metal",
+            mr(|m| {
+                m.base_color = Color::new(0.9, 0.6, 0.3);
+                m.metallic = 1.0;
+                m.clearcoat = 1.0;
+                m.clearcoat_alpha = 0.0;
+            }),
+        ),
+        (
+            "mr smooth metal",
+            mr(|m| {
+                m.base_color = gold;
+                m.metallic = 1.0;
+                m.alpha = 0.0;
+            }),
+        ),
+        (
+            "mr smooth thin glass",
+            mr(|m| {
+                m.alpha = 0.0;
+                m.transmission = 1.0;
+                m.thin = true;
+            }),
+        ),
+        (
+            "mr smooth glass",
+            mr(|m| {
+                m.base_color = Color::new(1.0, 0.9, 0.8);
+                m.alpha = 0.0;
+                m.transmission = 1.0;
+                m.thin = false;
+            }),
+        ),
+        ("mr gltf default", Bxdf::MetallicRoughness(MetallicRoughnessBxdf::default())),
+    ]
+}
+
+fn mr_config(name: &str) -> Bxdf {
+    mr_configs().into_iter().find(|(n, _)| *n == name).unwrap().1
+}
+
+fn mr_params(b: Bxdf) -> MetallicRoughnessBxdf {
+    let Bxdf::MetallicRoughness(m) = b else { panic!("not metallic-roughness") };
+    m
+}
+
+#[test]
+fn chi2_metallic_roughness_reflection() {
+    for prefix in ["mr diffuse", "mr dielectric", "mr metal", "mr gltf default"] {
+        chi2_family(prefix);
+    }
+}
+
+#[test]
+fn chi2_metallic_roughness_transmission() {
+    for prefix in ["mr thin transmission", "mr refraction"] {
+        chi2_family(prefix);
+    }
+}
+
+#[test]
+fn chi2_metallic_roughness_layers() {
+    for prefix in ["mr clearcoat", "mr sheen"] {
+        chi2_family(prefix);
+    }
+}
+
+#[test]
+fn chi2_metallic_roughness_mixed_and_partly_smooth() {
+    for prefix in ["mr mixed", "mr smooth"] {
+        chi2_family(prefix);
+    }
+}
+
+#[test]
+fn metallic_roughness_keeps_bxdf_small() {
+    // 88 bytes before the variant was added (CoatedConductor's size).
+    let size = std::mem::size_of::<Bxdf>();
+    eprintln!("size_of::<Bxdf>() = {size}, MetallicRoughnessBxdf {}", std::mem::size_of::<MetallicRoughnessBxdf>());
+    assert!(size <= 88, "{size}");
+}
+
+#[test]
+fn metallic_roughness_white_furnace_lambert_is_exact() {
+    // White base, no specular layer, no metal, no transmission: pure
+    // Lambert, every sample of weight exactly 1 from every wo.
+    let mut rng = Pcg32::new(41, 3);
+    for alpha in [0.0f32, 0.3, 1.0] {
+        let b = mr(|m| {
+            m.specular = 0.0;
+            m.alpha = alpha;
+        });
+        assert!(!b.is_specular());
+        for _ in 0..20_000 {
+            let wo = random_wo(&mut rng);
+            let Some(s) = b.sample_f(wo, rng.uniform(), Vec2::new(rng.uniform(), rng.uniform())) else { continue };
+            let w = s.f * s.wi.z.abs() / s.pdf;
+            assert!((w - Color::ONE).abs().max_element() < 1e-5, "α {alpha} wo {wo}: {w}");
+        }
+    }
+}
+
+#[test]
+fn metallic_roughness_without_specular_is_lambert() {
+    let base = Color::new(0.8, 0.3, 0.05);
+    let mut rng = Pcg32::new(42, 3);
+    for alpha in [0.0f32, 0.5] {
+        let b = mr(|m| {
+            m.base_color = base;
+            m.specular = 0.0;
+            m.alpha = alpha;
+        });
+        for _ in 0..5000 {
+            let (wo, wi) = (random_wo(&mut rng), random_wo(&mut rng));
+            let f = b.f(wo, wi);
+            if wo.z * wi.z > 0.0 {
+                assert!((f - base * std::f32::consts::FRAC_1_PI).abs().max_element() < 1e-7, "{f}");
+            } else {
+                assert_eq!(f, Color::ZERO);
+            }
+        }
+    }
+}
+
+#[test]
+fn metallic_roughness_f0_follows_the_ior() {
+    assert!((MetallicRoughnessBxdf::f0_from_ior(1.5) - 0.04).abs() < 1e-7);
+    assert_eq!(MetallicRoughnessBxdf::f0_from_ior(1.0), 0.0);
+    assert_eq!(MetallicRoughnessBxdf::f0_from_ior(0.0), 1.0);
+    assert_eq!(MetallicRoughnessBxdf::f0_from_ior(f32::INFINITY), 1.0);
+    // A smooth black dielectric reflects f0 at normal incidence: 0.04 for
+    // the default ior; KHR_materials_specular scales f0 by the specular
+    // colour (clamped to 1) and the whole Fresnel by the specular factor.
+    let black = |set: fn(&mut MetallicRoughnessBxdf)| {
+        mr(|m| {
+            m.base_color = Color::ZERO;
+            m.alpha = 0.0;
+            set(m);
+        })
+    };
+    let weight = |b: Bxdf, c: f32| {
+        let s = b.sample_f(wo_at(c, 0.2), 0.5, Vec2::splat(0.5)).unwrap();
+        assert!(s.specular && !s.transmission && (s.pdf - 1.0).abs() < 1e-6, "{s:?}");
+        s.f * s.wi.z.abs() / s.pdf
+    };
+    assert!((weight(black(|_| {}), 1.0) - Color::splat(0.04)).abs().max_element() < 1e-6);
+    let b = black(|m| {
+        m.specular = 0.5;
+        m.specular_color = Color::new(0.5, 1.0, 40.0);
+    });
+    assert!((weight(b, 1.0) - Color::new(0.01, 0.02, 0.5)).abs().max_element() < 1e-6);
+    // F90 is the specular factor: at grazing incidence the reflectance
+    // tends to 0.5 in every channel.
+    let g = weight(b, 1e-4);
+    assert!((g - Color::splat(0.5)).abs().max_element() < 1e-3, "{g}");
+    // KHR_materials_ior: ior 1.33 gives ((0.33)/(2.33))².
+    let b = black(|m| m.ior = 1.33);
+    let f0 = (0.33f32 / 2.33).powi(2);
+    assert!((weight(b, 1.0) - Color::splat(f0)).abs().max_element() < 1e-6);
+}
+
+#[test]
+fn smooth_metallic_roughness_metal_reflects_schlick_of_the_base_colour() {
+    // metallic 1, smooth: one delta lobe of weight c + (1 − c)(1 − cos θ)⁵.
+    let c = Color::new(0.9, 0.6, 0.3);
+    let b = mr(|m| {
+        m.base_color = c;
+        m.metallic = 1.0;
+        m.alpha = 0.0;
+    });
+    assert!(b.is_specular());
+    for cos in [1.0f32, 0.7, 0.3, 0.05, -0.5, -0.02] {
+        let wo = wo_at(cos, 1.3);
+        let s = b.sample_f(wo, 0.3, Vec2::new(0.2, 0.9)).unwrap();
+        assert!(s.specular && !s.transmission && s.pdf == 1.0);
+        assert!((s.wi - Vec3::new(-wo.x, -wo.y, wo.z)).length() < 1e-6);
+        let w = s.f * s.wi.z.abs() / s.pdf;
+        let want = c + (Color::ONE - c) * (1.0 - cos.abs()).powi(5);
+        assert!((w - want).abs().max_element() < 1e-6, "cos {cos}: {w} vs {want}");
+        assert_eq!(b.f(wo, s.wi), Color::ZERO);
+        assert_eq!(b.pdf(wo, s.wi), 0.0);
+    }
+}
+
+#[test]
+fn metallic_roughness_is_specular_only_when_every_lobe_is_a_delta() {
+    let smooth_metal = mr(|m| {
+        m.metallic = 1.0;
+        m.alpha = 0.0;
+    });
+    assert!(smooth_metal.is_specular());
+    // A smooth dielectric still has its diffuse base.
+    assert!(!mr(|m| m.alpha = 0.0).is_specular());
+    // ... unless the base is black, or all of it is transmitted.
+    assert!(mr(|m| {
+        m.alpha = 0.0;
+        m.base_color = Color::ZERO;
+    })
+    .is_specular());
+    assert!(mr_config("mr smooth thin glass").is_specular());
+    assert!(mr_config("mr smooth glass").is_specular());
+    // A smooth coat over a rough metal, or sheen on a smooth metal, is not.
+    assert!(!mr_config("mr smooth coat over rough metal").is_specular());
+    let mut sheen = mr_params(smooth_metal);
+    sheen.sheen_color = Color::splat(0.5);
+    assert!(!Bxdf::MetallicRoughness(sheen).is_specular());
+    // A smooth coat over a smooth metal is.
+    let mut coated = mr_params(smooth_metal);
+    coated.clearcoat = 1.0;
+    assert!(Bxdf::MetallicRoughness(coated).is_specular());
+    // Refraction with ior 1 bends nothing: a delta at any roughness.
+    assert!(mr(|m| {
+        m.transmission = 1.0;
+        m.thin = false;
+        m.ior = 1.0;
+        m.alpha = 0.5;
+        m.specular = 0.0;
+    })
+    .is_specular());
+    // Regularisation widens the smooth lobes.
+    let mut r = smooth_metal;
+    r.regularize();
+    assert!(!r.is_specular());
+    assert_eq!(mr_params(r).alpha, 0.1);
+}
+
+#[test]
+fn smooth_metallic_roughness_transmission_splits_fresnel() {
+    // Thin glass: reflection F(cos θo) (Schlick, f0 0.04) and straight
+    // transmission 1 − F, tinted; no bending, no 1/η².
+    let b = mr_config("mr smooth thin glass");
+    for cos in [1.0f32, 0.6, 0.2, -0.4] {
+        let wo = wo_at(cos, 0.5);
+        let f = 0.04 + 0.96 * (1.0 - cos.abs()).powi(5);
+        let (mut refl, mut trans) = (None, None);
+        for k in 0..100 {
+            let s = b.sample_f(wo, (k as f32 + 0.5) / 100.0, Vec2::splat(0.5)).unwrap();
+            assert!(s.specular);
+            if s.transmission {
+                trans = Some(s);
+            } else {
+                refl = Some(s);
+            }
+        }
+        let (r, t) = (refl.unwrap(), trans.unwrap());
+        assert_eq!(t.wi, -wo);
+        assert_eq!(t.eta, 1.0);
+        assert!((r.f.x * r.wi.z.abs() - f).abs() < 1e-6);
+        assert!((t.f.x * t.wi.z.abs() - (1.0 - f)).abs() < 1e-6);
+        assert!((r.pdf + t.pdf - 1.0).abs() < 1e-6);
+    }
+    // Refractive glass: Snell's law, η'² · T = (1 − F) · tint, and total
+    // internal reflection inside beyond the critical angle.
+    let b = mr_config("mr smooth glass");
+    let tint = Color::new(1.0, 0.9, 0.8);
+    for cos in [1.0f32, 0.5, 0.1, -1.0, -0.9, -0.75] {
+        let wo = wo_at(cos, 0.5);
+        let s = b.sample_f(wo, 0.999, Vec2::splat(0.5)).unwrap();
+        assert!(s.specular && s.transmission, "cos {cos}: {s:?}");
+        let (so, si) = ((1.0 - wo.z * wo.z).sqrt(), (1.0 - s.wi.z * s.wi.z).max(0.0).sqrt());
+        assert!((so - s.eta * si).abs() < 1e-4, "Snell");
+        // Schlick at the cosine in air.
+        let c_air = if cos > 0.0 { cos } else { s.wi.z.abs() };
+        let f = 0.04 + 0.96 * (1.0 - c_air).powi(5);
+        let w = s.f * s.wi.z.abs() * s.eta * s.eta;
+        assert!((w - tint * (1.0 - f)).abs().max_element() < 1e-5, "cos {cos}: {w}");
+    }
+    let tir = wo_at(-0.5, 0.5);
+    for k in 0..20 {
+        if let Some(s) = b.sample_f(tir, (k as f32 + 0.5) / 20.0, Vec2::splat(0.5)) {
+            assert!(!s.transmission && (s.f.x * s.wi.z.abs() - 1.0).abs() < 1e-6, "{s:?}");
+        }
+    }
+}
+
+#[test]
+fn metallic_roughness_sheen_matches_its_albedo_table() {
+    // Sheen alone (black base, no specular layer): the sampled albedo is
+    // the table's E(μ, α) times the sheen colour.
+    // Where the fitted visibility gains energy (E > 1, small α at grazing
+    // angles) the lobe is divided by max(1, E(cos θo), E(cos θi)): its
+    // albedo is then at most min(E(cos θo), 1), and a little less where
+    // E(cos θi) > 1.
+    for alpha in [0.01f32, 0.05, 0.3, 1.0] {
+        let b = mr(|m| {
+            m.base_color = Color::ZERO;
+            m.specular = 0.0;
+            m.sheen_color = Color::ONE;
+            m.sheen_alpha = alpha;
+        });
+        for c in [0.9f32, 0.5, 0.15, 0.02, -0.3] {
+            let (m, se) = albedo(&b, wo_at(c, 0.7), 100_000, 21);
+            let e = super::sheen::albedo(c, alpha).min(1.0);
+            eprintln!("sheen α {alpha} cos {c}: sampled {:.4} ± {:.4}, table {e:.4}", m.x, se.x);
+            if alpha >= 0.07 {
+                assert!((m.x - e).abs() < 4.0 * se.x + 3e-3, "α {alpha} cos {c}: {m} vs {e}");
+            } else {
+                assert!(
+                    m.x < e + 4.0 * se.x + 3e-3 && m.x > 0.9 * e - 4.0 * se.x - 1e-4,
+                    "α {alpha} cos {c}: {m} vs {e}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn metallic_roughness_conserves_energy() {
+    // Every parameter set, and white variants of the worst cases: the
+    // directional albedo (transmission weighted by η'²) is at most 1.
+    let mut cases = mr_configs();
+    let white = |set: fn(&mut MetallicRoughnessBxdf)| mr(set);
+    cases.extend([
+        ("white dielectric α0.3", white(|_| {})),
+        ("white dielectric α1", white(|m| m.alpha = 1.0)),
+        ("white smooth dielectric", white(|m| m.alpha = 0.0)),
+        (
+            "white dielectric ior 3",
+            white(|m| {
+                m.ior = 3.0;
+                m.alpha = 0.1;
+            }),
+        ),
+        (
+            "white metal α0.5",
+            white(|m| {
+                m.metallic = 1.0;
+                m.alpha = 0.5;
+            }),
+        ),
+        (
+            "white thin transmission",
+            white(|m| {
+                m.transmission = 1.0;
+                m.thin = true;
+            }),
+        ),
+        (
+            "white refraction",
+            white(|m| {
+                m.transmission = 1.0;
+                m.thin = false;
+                m.alpha = 0.2;
+            }),
+        ),
+        (
+            "white coated",
+            white(|m| {
+                m.clearcoat = 1.0;
+                m.clearcoat_alpha = 0.2;
+            }),
+        ),
+        (
+            "white velvet",
+            white(|m| {
+                m.alpha = 1.0;
+                m.sheen_color = Color::ONE;
+                m.sheen_alpha = 0.4;
+            }),
+        ),
+        (
+            "white fine velvet",
+            white(|m| {
+                m.alpha = 1.0;
+                m.sheen_color = Color::ONE;
+                m.sheen_alpha = 0.0;
+            }),
+        ),
+        (
+            "white everything",
+            white(|m| {
+                m.metallic = 0.3;
+                m.transmission = 0.5;
+                m.clearcoat = 1.0;
+                m.clearcoat_alpha = 0.0;
+                m.sheen_color = Color::ONE;
+                m.sheen_alpha = 0.2;
+            }),
+        ),
+    ]);
+    let mut seed = 500;
+    for (name, b) in cases {
+        let mut row = Vec::new();
+        for c in [0.95f32, 0.5, 0.15, 0.03, -0.5, -0.9] {
+            seed += 1;
+            let (m, se) = albedo(&b, wo_at(c, 0.8), 40_000, seed);
+            assert!(m.max_element() <= 1.0 + 4.0 * se.max_element() + 3e-3, "{name} cos {c}: albedo {m} ± {se}");
+            row.push(format!("{:.3}", m.max_element()));
+        }
+        eprintln!("{name}: albedo at cos θo 0.95, 0.5, 0.15, 0.03, -0.5, -0.9 = {}", row.join(", "));
+    }
+}
+
+#[test]
+fn white_metallic_roughness_dielectric_hands_the_base_what_the_layer_leaves() {
+    // Kulla & Conty's albedo scaling: a smooth white dielectric reflects
+    // exactly all light (F specularly, 1 − F diffusely), from both sides
+    // and whatever the specular factor; a rough one loses only what the
+    // GGX lobe's masking and shadowing lose. With a specular colour the
+    // base is weighted by the largest channel's 1 − F
+    // (KHR_materials_specular's max_value), so only that channel keeps all.
+    let mut seed = 900;
+    for (name, b, lower) in [
+        ("smooth", mr(|m| m.alpha = 0.0), 1.0),
+        (
+            "smooth, specular colour",
+            mr(|m| {
+                m.alpha = 0.0;
+                m.specular = 0.6;
+                m.specular_color = Color::new(3.0, 1.0, 0.2);
+                m.ior = 1.7;
+            }),
+            1.0,
+        ),
+        ("rough α0.1", mr(|m| m.alpha = 0.1), 0.9),
+        ("rough α0.5", mr(|m| m.alpha = 0.5), 0.85),
+    ] {
+        for c in [1.0f32, 0.7, 0.3, 0.08, -0.6] {
+            seed += 1;
+            let (m, se) = albedo(&b, wo_at(c, 0.4), 100_000, seed);
+            eprintln!("white dielectric {name} cos {c}: {m} ± {se}");
+            assert!(m.max_element() <= 1.0 + 4.0 * se.max_element() + 2e-3, "{name} cos {c}: {m} ± {se}");
+            assert!(m.max_element() >= lower - 4.0 * se.max_element() - 2e-3, "{name} cos {c}: {m} ± {se}");
+            assert!(m.min_element() >= 0.85, "{name} cos {c}: {m} ± {se}");
+        }
+    }
+}
+
+#[test]
+fn metallic_roughness_clearcoat_and_sheen_follow_the_layering() {
+    // Smooth clearcoat over a white Lambertian base without specular: the
+    // coat's mirror reflects clearcoat · F_c(cos θo) and the base is
+    // weighted by 1 − clearcoat · max(F_c(cos θo), F_c(cos θi)).
+    let fc = |c: f32| 0.04 + 0.96 * (1.0 - c.abs()).powi(5);
+    let b = mr(|m| {
+        m.specular = 0.0;
+        m.clearcoat = 0.8;
+        m.clearcoat_alpha = 0.0;
+    });
+    for cos in [1.0f32, 0.6, 0.2] {
+        let wo = wo_at(cos, 0.1);
+        let s = b.sample_f(wo, 0.0, Vec2::splat(0.5)).unwrap();
+        assert!(s.specular);
+        let p = mr_params(b).lobe_probabilities(wo)[0];
+        assert!((s.pdf - p).abs() < 1e-7);
+        assert!((s.f.x * s.wi.z.abs() - 0.8 * fc(cos)).abs() < 1e-6);
+        let wi = wo_at(0.4, 2.0);
+        let want = (1.0 - 0.8 * fc(cos).max(fc(0.4))) / std::f32::consts::PI;
+        assert!((b.f(wo, wi).x - want).abs() < 1e-6);
+    }
+    // Sheen over a Lambertian base: f = sheen f_sheen + S base/π with
+    // S = 1 − max(sheen) max(E(cos θo), E(cos θi)).
+    let b = mr(|m| {
+        m.specular = 0.0;
+        m.sheen_color = Color::new(0.2, 0.4, 0.6);
+        m.sheen_alpha = 0.5;
+    });
+    let (wo, wi) = (wo_at(0.3, 0.0), wo_at(0.7, 2.5));
+    let e = |c: f32| super::sheen::albedo(c, 0.5);
+    let s = 1.0 - 0.6 * e(0.3).max(e(0.7));
+    let want = Color::new(0.2, 0.4, 0.6) * super::sheen::brdf(wo, wi, 0.5) + Color::splat(s / std::f32::consts::PI);
+    assert!((b.f(wo, wi) - want).abs().max_element() < 1e-6);
 }
