@@ -20,17 +20,17 @@ pub enum Command {
     Render(RenderArgs),
     /// Parse and validate a scene file without rendering it.
     Check {
-        /// The scene file (.toml, .json or .pbrt).
+        /// The scene file (.toml, .json, .pbrt, .gltf or .glb).
         scene: PathBuf,
         #[command(flatten)]
         import: ImportArgs,
     },
-    /// Write a scene (a pbrt-v4 file, or a TOML/JSON one) as a lucent scene
+    /// Write a scene (a pbrt-v4 or glTF file, or a TOML/JSON one) as a lucent scene
     /// file, TOML or JSON by the output's extension, with its meshes as
     /// binary PLY files in OUTPUT_STEM-meshes/ beside it: edit it, and it
     /// renders the same image.
     Convert {
-        /// The scene to read (.pbrt, .pbrt.gz, .toml or .json).
+        /// The scene to read (.pbrt, .pbrt.gz, .gltf, .glb, .toml or .json).
         scene: PathBuf,
         /// The scene file to write (.toml or .json).
         #[arg(short, long, value_name = "FILE")]
@@ -307,18 +307,27 @@ fn sample_range(s: &str) -> Result<std::ops::Range<u32>, String> {
     Ok(a..b)
 }
 
-/// Options of the pbrt-v4 importer.
+/// Options of the pbrt-v4 and glTF importers.
 #[derive(Args, Debug, Default)]
 pub struct ImportArgs {
-    /// pbrt-v4 scenes: make every warning (an unsupported feature or
-    /// parameter) an error.
+    /// pbrt-v4 and glTF scenes: make every warning (an unsupported feature
+    /// or parameter) an error.
     #[arg(long)]
     pub strict: bool,
     /// pbrt-v4 scenes: light `infinite` lights that name an image with this
     /// image instead (.exr, .hdr, .pfm, or an 8-bit image read as sRGB; for
-    /// scenes shipped without theirs).
+    /// scenes shipped without theirs). glTF scenes: the environment (a
+    /// latitude-longitude image, +y up).
     #[arg(long, value_name = "IMAGE")]
     pub env: Option<PathBuf>,
+    /// glTF scenes: render scene N of the file (default: its `scene`, else
+    /// the first).
+    #[arg(long = "scene", value_name = "N")]
+    pub gltf_scene: Option<usize>,
+    /// glTF scenes: look through this camera, by name or by index in
+    /// `cameras` (default: the first placed in the scene).
+    #[arg(long, value_name = "NAME|N")]
+    pub camera: Option<String>,
 }
 
 /// A duration in seconds: a finite number > 0.

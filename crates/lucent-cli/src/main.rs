@@ -133,7 +133,13 @@ fn run_convert(
 fn warn(scene: &lucent::scene::Scene, quiet: bool) {
     if !quiet {
         for w in scene.warnings() {
-            eprintln!("warning: {w}");
+            // Importers' notes (what a file has that is no problem) are
+            // warnings prefixed "note: ".
+            if w.starts_with("note: ") {
+                eprintln!("{w}");
+            } else {
+                eprintln!("warning: {w}");
+            }
         }
     }
 }

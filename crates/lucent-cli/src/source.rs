@@ -1,8 +1,9 @@
-//! Where a scene comes from: a file (lucent's TOML/JSON or pbrt-v4), or the
+//! Where a scene comes from: a file (lucent's TOML/JSON, pbrt-v4 or glTF), or the
 //! built-in showcase, opened through the library's
 //! [`SceneSource`] with the command line's overrides.
 
 use crate::cli::{ImportArgs, IntegratorArg, SamplerArg, SceneOverrides};
+use lucent::loader::gltf::is_gltf_path;
 use lucent::loader::{is_pbrt_path, SceneFile, SceneFormat, SceneSource};
 use lucent::render::IntegratorKind;
 use lucent::sampling::SamplerKind;
@@ -21,8 +22,12 @@ pub fn load_with(
     import: &ImportArgs,
     adjust: impl FnOnce(&mut lucent::loader::SceneOverrides),
 ) -> Result<SceneSource, String> {
-    if !path.is_some_and(is_pbrt_path) && (import.strict || import.env.is_some()) {
-        return Err("--strict and --env apply to pbrt-v4 scenes (.pbrt) only".into());
+    let gltf = path.is_some_and(is_gltf_path);
+    if !(path.is_some_and(is_pbrt_path) || gltf) && (import.strict || import.env.is_some()) {
+        return Err("--strict and --env apply to pbrt-v4 (.pbrt) and glTF (.gltf, .glb) scenes only".into());
+    }
+    if !gltf && (import.gltf_scene.is_some() || import.camera.is_some()) {
+        return Err("--scene and --camera apply to glTF scenes (.gltf, .glb) only".into());
     }
     check_size(overrides)?;
     let mut o = library_overrides(overrides, import);
@@ -61,6 +66,8 @@ fn library_overrides(o: &SceneOverrides, import: &ImportArgs) -> lucent::loader:
         default_max_indirect: None,
         strict: import.strict,
         environment: import.env.clone(),
+        gltf_scene: import.gltf_scene,
+        camera: import.camera.clone(),
     }
 }
 

@@ -91,16 +91,19 @@ fn overrides(
         default_max_indirect,
         strict,
         environment: env,
+        gltf_scene: None,
+        camera: None,
     })
 }
 
 #[pymethods]
 impl Source {
     /// Load and build the scene file `path` (`.toml`, `.json`, `.pbrt`,
-    /// `.pbrt.gz`) with the given overrides; `strict` and `env` are for
-    /// pbrt-v4 scenes. The GIL is released while loading.
+    /// `.pbrt.gz`, `.gltf`, `.glb`) with the given overrides; `strict` and
+    /// `env` are for pbrt-v4 and glTF scenes, `gltf_scene` and `camera` for
+    /// glTF ones. The GIL is released while loading.
     #[staticmethod]
-    #[pyo3(signature = (path, *, width=None, height=None, spp=None, seed=None, integrator=None, sampler=None, max_depth=None, strict=false, env=None, aovs=None, filter_importance=None, adaptive=None, default_max_indirect=None))]
+    #[pyo3(signature = (path, *, width=None, height=None, spp=None, seed=None, integrator=None, sampler=None, max_depth=None, strict=false, env=None, aovs=None, filter_importance=None, adaptive=None, default_max_indirect=None, gltf_scene=None, camera=None))]
     #[allow(clippy::too_many_arguments)]
     fn open(
         py: Python<'_>,
@@ -118,8 +121,10 @@ impl Source {
         filter_importance: Option<bool>,
         adaptive: Option<f32>,
         default_max_indirect: Option<f32>,
+        gltf_scene: Option<usize>,
+        camera: Option<String>,
     ) -> PyResult<Source> {
-        let o = overrides(
+        let mut o = overrides(
             width,
             height,
             spp,
@@ -134,6 +139,8 @@ impl Source {
             adaptive,
             default_max_indirect,
         )?;
+        o.gltf_scene = gltf_scene;
+        o.camera = camera;
         let inner = py.detach(|| SceneSource::open(&path, &o)).map_err(|e| scene_error(py, &e))?;
         Ok(Source { inner, from_text: false })
     }

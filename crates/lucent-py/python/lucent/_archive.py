@@ -168,6 +168,9 @@ def build(scene) -> SceneArchive:
         "scene": names[scene_path],
         "strict": bool(options.get("strict", False)),
         "env": names[env] if env is not None else None,
+        # glTF scenes: which scene and camera of the file.
+        "gltf_scene": options.get("scene"),
+        "camera": options.get("camera"),
         "files": {
             name: {"size": len(data), "sha256": hashlib.sha256(data).hexdigest()}
             for name, data in sorted(contents.items())
@@ -305,4 +308,8 @@ def load(archive: SceneArchive, cache_dir: Optional[str] = None):
         options["strict"] = True
     if manifest.get("env"):
         options["env"] = os.path.join(files, *PurePosixPath(manifest["env"]).parts)
+    if manifest.get("gltf_scene") is not None:
+        options["scene"] = int(manifest["gltf_scene"])
+    if manifest.get("camera") is not None:
+        options["camera"] = str(manifest["camera"])
     return lucent.load(scene_path, **options)

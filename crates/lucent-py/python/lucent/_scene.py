@@ -46,23 +46,46 @@ def _is_pbrt(path: str) -> bool:
     return name.endswith(".pbrt") or name.endswith(".pbrt.gz")
 
 
-def load(path: PathLike, strict: bool = False, env: Optional[PathLike] = None) -> "Scene":
-    """Load a scene file: lucent's TOML or JSON (``.toml``, ``.json``) or a
-    pbrt-v4 scene (``.pbrt``, ``.pbrt.gz``).
+def _is_gltf(path: str) -> bool:
+    return os.path.splitext(path)[1].lower() in (".gltf", ".glb")
+
+
+def load(
+    path: PathLike,
+    strict: bool = False,
+    env: Optional[PathLike] = None,
+    scene: Optional[int] = None,
+    camera: Optional[Union[str, int]] = None,
+) -> "Scene":
+    """Load a scene file: lucent's TOML or JSON (``.toml``, ``.json``), a
+    pbrt-v4 scene (``.pbrt``, ``.pbrt.gz``) or a glTF 2.0 scene
+    (``.gltf``, ``.glb``; see ``docs/gltf.md``).
 
     The scene is built right away, so every error surfaces here as a
-    :class:`lucent.SceneError` with the file, line and column. ``strict``
-    makes the pbrt-v4 importer's warnings (unsupported features) errors;
-    ``env`` lights a pbrt-v4 scene with this environment image instead of
-    the one it names. Both apply to pbrt-v4 scenes only.
+    :class:`lucent.SceneError` with the file, line and column (for glTF, the
+    JSON path). ``strict`` makes the pbrt-v4 and glTF importers' warnings
+    (unsupported features) errors; ``env`` lights a pbrt-v4 scene with this
+    environment image instead of the one it names, and a glTF scene (which
+    has none) with it. ``scene`` (an index) and ``camera`` (a name or an
+    index) choose among a glTF file's scenes and cameras.
     """
     path = os.path.abspath(os.fspath(path))
     env_path = None if env is None else os.path.abspath(os.fspath(env))
-    if not _is_pbrt(path) and (strict or env_path is not None):
-        raise ValueError("strict and env apply to pbrt-v4 scenes (.pbrt, .pbrt.gz) only")
-    scene = Scene(_path=path, _strict=bool(strict), _env=env_path)
-    scene._source()  # build it now: errors belong to load()
-    return scene
+    if not (_is_pbrt(path) or _is_gltf(path)) and (strict or env_path is not None):
+        raise ValueError("strict and env apply to pbrt-v4 (.pbrt, .pbrt.gz) and glTF (.gltf, .glb) scenes only")
+    if not _is_gltf(path) and (scene is not None or camera is not None):
+        raise ValueError("scene and camera apply to glTF scenes (.gltf, .glb) only")
+    if scene is not None and (isinstance(scene, bool) or not isinstance(scene, int) or scene < 0):
+        raise ValueError(f"scene must be an index ≥ 0, got {scene!r}")
+    loaded = Scene(
+        _path=path,
+        _strict=bool(strict),
+        _env=env_path,
+        _gltf_scene=scene,
+        _camera=None if camera is None else str(camera),
+    )
+    loaded._source()  # build it now: errors belong to load()
+    return loaded
 
 
 class Scene:
@@ -89,6 +112,8 @@ class Scene:
         _base_dir: Optional[str] = None,
         _strict: bool = False,
         _env: Optional[str] = None,
+        _gltf_scene: Optional[int] = None,
+        _camera: Optional[str] = None,
     ) -> None:
         if _path is None and _dict is None:
             raise TypeError("make a Scene with lucent.load(path) or lucent.Scene.from_dict(d)")
@@ -97,6 +122,8 @@ class Scene:
         self._base_dir = _base_dir if _base_dir is not None else os.path.dirname(_path or os.path.join(os.getcwd(), "x"))
         self._strict = _strict
         self._env = _env
+        self._gltf_scene = _gltf_scene
+        self._camera = _camera
         self._text: Optional[Tuple[str, List[str]]] = None
         self._cache: Optional[Tuple[tuple, Any]] = None
         #: The figures of the last render (``spp_added``, ``seconds``,
@@ -143,8 +170,12 @@ class Scene:
 
     @property
     def load_options(self) -> Dict[str, Any]:
-        """The options it was loaded with: ``{"strict": bool, "env": str or None}``."""
-        return {"strict": self._strict, "env": self._env}
+        """The options it was loaded with: ``{"strict": bool, "env": str or
+        None}``, and for a glTF scene ``"scene"`` and ``"camera"`` too."""
+        options: Dict[str, Any] = {"strict": self._strict, "env": self._env}
+        if self._path is not None and _is_gltf(self._path):
+            options.update(scene=self._gltf_scene, camera=self._camera)
+        return options
 
     @property
     def files(self) -> List[str]:
@@ -270,7 +301,11 @@ class Scene:
         ov = {k: (list(v) if k == "aovs" else v) for k, v in zip(_OVERRIDES, key) if v is not None}
         if self._dict is None:
             assert self._path is not None
-            extra = {"strict": self._strict, "env": self._env} if _is_pbrt(self._path) else {}
+            extra: Dict[str, Any] = {}
+            if _is_pbrt(self._path) or _is_gltf(self._path):
+                extra = {"strict": self._strict, "env": self._env}
+            if _is_gltf(self._path):
+                extra.update(gltf_scene=self._gltf_scene, camera=self._camera)
             source = _native.Source.open(self._path, **ov, **extra)
         else:
             text, paths = self._dict_text()

@@ -10,7 +10,8 @@ use crate::bsdf::ConductorFresnel;
 use crate::color::Color;
 use crate::geometry::Vec3;
 use crate::material::{
-    CoatedConductorMaterial, CoatedDiffuseMaterial, Material, MaterialId, Roughness, COPPER_ETA, COPPER_K,
+    CoatedConductorMaterial, CoatedDiffuseMaterial, Material, MaterialId, MetallicRoughnessMaterial, Roughness,
+    COPPER_ETA, COPPER_K,
 };
 use crate::scene::SceneError;
 use crate::texture::{ColorEncoding, FloatTexture, ImageTexture, ImageTextureParams, Texture, TextureMapping};
@@ -38,7 +39,14 @@ impl SceneFile {
             material = material.with_bump(tex.float(d, "displacement").map_err(fail)?);
         }
         if let Some(file) = &m.normal_map {
-            material = material.with_normal_map(normal_map(tex, file).map_err(fail)?);
+            let map = normal_map(tex, file).map_err(fail)?;
+            material = match m.normal_scale {
+                None => material.with_normal_map(map),
+                Some(scale) => Material::Shaded {
+                    material: Box::new(material),
+                    normal: crate::material::NormalPerturbation::ScaledNormalMap { map, scale },
+                },
+            };
         }
         Ok(material)
     }
@@ -251,6 +259,52 @@ impl SceneFile {
                 Ok(Material::Mix { materials, amount })
             }
             MaterialKindDesc::Interface(_) => Ok(Material::Interface),
+            MaterialKindDesc::MetallicRoughness(d) => {
+                // A colour key: a constant is the factor itself; a texture
+                // is multiplied by the `_factor` key.
+                let factored = |tex: &mut TextureTable,
+                                v: &Option<TexValue>,
+                                factor: &Option<Rgb>,
+                                key: &str,
+                                default: Color|
+                 -> Result<(Color, Option<Texture>), String> {
+                    let factor = factor.map_or(Color::ONE, Color::from);
+                    Ok(match v {
+                        None => (default, None),
+                        Some(v) => match tex.color(v, key)? {
+                            Texture::Constant(c) => (c * factor, None),
+                            t => (factor, Some(t)),
+                        },
+                    })
+                };
+                let (base_color_factor, base_color) =
+                    factored(tex, &d.base_color, &d.base_color_factor, "base_color", Color::ONE)?;
+                let (specular_color_factor, specular_color) =
+                    factored(tex, &d.specular_color, &d.specular_color_factor, "specular_color", Color::ONE)?;
+                let (sheen_color_factor, sheen_color) =
+                    factored(tex, &d.sheen_color, &d.sheen_color_factor, "sheen_color", Color::ZERO)?;
+                let ior = d.ior.map_or(1.5, Positive::get);
+                if ior < 1.0 {
+                    return Err(format!("`ior` must be at least 1, got {ior}"));
+                }
+                Ok(Material::MetallicRoughness(Box::new(MetallicRoughnessMaterial {
+                    base_color_factor,
+                    base_color,
+                    metallic: opt_float(tex, &d.metallic, "metallic", 1.0)?,
+                    roughness: opt_float(tex, &d.roughness, "roughness", 1.0)?,
+                    ior,
+                    specular: opt_float(tex, &d.specular, "specular", 1.0)?,
+                    specular_color_factor,
+                    specular_color,
+                    transmission: opt_float(tex, &d.transmission, "transmission", 0.0)?,
+                    thin: d.thin.unwrap_or(true),
+                    clearcoat: opt_float(tex, &d.clearcoat, "clearcoat", 0.0)?,
+                    clearcoat_roughness: opt_float(tex, &d.clearcoat_roughness, "clearcoat_roughness", 0.0)?,
+                    sheen_color_factor,
+                    sheen_color,
+                    sheen_roughness: opt_float(tex, &d.sheen_roughness, "sheen_roughness", 0.0)?,
+                })))
+            }
         })
     }
 }

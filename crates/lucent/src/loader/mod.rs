@@ -13,6 +13,7 @@ mod build;
 mod camera;
 mod description;
 mod export;
+pub mod gltf;
 mod locate;
 mod materials;
 mod media;

@@ -4,13 +4,14 @@
 //! arguments), and fingerprints what decides its samples, so that
 //! checkpoints and partial renders of it can be recognised.
 
+use super::gltf::{import_gltf, is_gltf_path, GltfOptions};
 use super::pbrt::{import_pbrt, ImportOptions};
 use super::{
     AovDesc, ImageDimension, IntegratorDesc, LoadedScene, MaxDepth, Positive, SampleCount, SamplerDesc,
     SceneDescription, SceneFile,
 };
 use crate::film::{check_image_size, AovSet};
-use crate::render::IntegratorKind;
+use crate::render::{IntegratorKind, RenderSettings};
 use crate::sampling::SamplerKind;
 use crate::scene::SceneError;
 use std::path::{Path, PathBuf};
@@ -47,11 +48,16 @@ pub struct SceneOverrides {
     /// [`max_indirect`](Self::max_indirect) sets one (`lucent render
     /// --denoise` asks for 10, as Blender's Cycles clamps by default).
     pub default_max_indirect: Option<f32>,
-    /// pbrt-v4 scenes only: every importer warning is an error.
+    /// pbrt-v4 and glTF scenes only: every importer warning is an error.
     pub strict: bool,
-    /// pbrt-v4 scenes only: the image for every `infinite` light with a
-    /// `filename` (for scenes shipped without their environment map).
+    /// pbrt-v4 scenes: the image for every `infinite` light with a
+    /// `filename` (for scenes shipped without their environment map);
+    /// glTF scenes (which have no environment): the environment.
     pub environment: Option<PathBuf>,
+    /// glTF scenes only: which scene of the file (`scenes[N]`).
+    pub gltf_scene: Option<usize>,
+    /// glTF scenes only: which camera, by name or index.
+    pub camera: Option<String>,
 }
 
 /// A scene opened from a file or from parsed text, built, with what is
@@ -92,6 +98,29 @@ impl SceneSource {
     /// assert_eq!(source.files(), vec![path]);
     /// ```
     pub fn open(path: &Path, overrides: &SceneOverrides) -> Result<Self, SceneError> {
+        let is_gltf = is_gltf_path(path);
+        if !is_gltf && (overrides.gltf_scene.is_some() || overrides.camera.is_some()) {
+            return Err(SceneError::new(
+                Some(path.to_owned()),
+                "choosing a scene or a camera applies to glTF scenes (.gltf, .glb) only",
+            ));
+        }
+        if is_gltf {
+            let options = GltfOptions {
+                strict: overrides.strict,
+                environment: overrides.environment.clone(),
+                resolution: match (overrides.width, overrides.height) {
+                    (None, None) => None,
+                    (w, h) => Some((w, h)),
+                },
+                scene: overrides.gltf_scene,
+                camera: overrides.camera.clone(),
+            };
+            let mut loaded = import_gltf(path, &options)?;
+            apply_to_settings(&mut loaded.settings, overrides);
+            let key = format!("glTF scene {:?} camera {:?}", overrides.gltf_scene, overrides.camera);
+            return Ok(Self { loaded, path: Some(path.to_owned()), key, pbrt: true });
+        }
         if is_pbrt_path(path) {
             let options = ImportOptions {
                 strict: overrides.strict,
@@ -102,16 +131,7 @@ impl SceneSource {
                 },
             };
             let mut loaded = import_pbrt(path, &options)?;
-            let s = &mut loaded.settings;
-            s.spp = overrides.spp.unwrap_or(s.spp);
-            s.seed = overrides.seed.unwrap_or(s.seed);
-            s.integrator = overrides.integrator.unwrap_or(s.integrator);
-            s.sampler = overrides.sampler.unwrap_or(s.sampler);
-            s.max_depth = overrides.max_depth.unwrap_or(s.max_depth);
-            s.aovs = overrides.aovs.unwrap_or(s.aovs);
-            s.filter_importance = overrides.filter_importance.unwrap_or(s.filter_importance);
-            s.adaptive = overrides.adaptive.or(s.adaptive);
-            s.max_indirect = overrides.max_indirect.or(s.max_indirect).or(overrides.default_max_indirect);
+            apply_to_settings(&mut loaded.settings, overrides);
             return Ok(Self { loaded, path: Some(path.to_owned()), key: "pbrt-v4".into(), pbrt: true });
         }
         Self::from_file(SceneFile::load(path)?, overrides)
@@ -123,7 +143,7 @@ impl SceneSource {
         if overrides.strict || overrides.environment.is_some() {
             return Err(SceneError::new(
                 file.path.clone(),
-                "`strict` and an environment override apply to pbrt-v4 scenes (.pbrt) only",
+                "`strict` and an environment override apply to pbrt-v4 (.pbrt) and glTF (.gltf, .glb) scenes only",
             ));
         }
         apply(&mut file, overrides)?;
@@ -186,6 +206,20 @@ impl SceneSource {
         }
         Ok(h)
     }
+}
+
+/// The overrides of an imported scene's (pbrt-v4, glTF) render settings;
+/// the image size is the importer's business.
+fn apply_to_settings(s: &mut RenderSettings, overrides: &SceneOverrides) {
+    s.spp = overrides.spp.unwrap_or(s.spp);
+    s.seed = overrides.seed.unwrap_or(s.seed);
+    s.integrator = overrides.integrator.unwrap_or(s.integrator);
+    s.sampler = overrides.sampler.unwrap_or(s.sampler);
+    s.max_depth = overrides.max_depth.unwrap_or(s.max_depth);
+    s.aovs = overrides.aovs.unwrap_or(s.aovs);
+    s.filter_importance = overrides.filter_importance.unwrap_or(s.filter_importance);
+    s.adaptive = overrides.adaptive.or(s.adaptive);
+    s.max_indirect = overrides.max_indirect.or(s.max_indirect).or(overrides.default_max_indirect);
 }
 
 const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
@@ -359,7 +393,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let o = SceneOverrides { strict: true, ..Default::default() };
         let e = SceneSource::open(&write_scene(dir.path(), SCENE, TRI), &o).unwrap_err();
-        assert!(e.to_string().contains("pbrt-v4 scenes (.pbrt) only"), "{e}");
+        assert!(e.to_string().contains("glTF (.gltf, .glb) scenes only"), "{e}");
         let o = SceneOverrides { width: Some(65_536), height: Some(65_536), ..Default::default() };
         let e = SceneSource::open(&write_scene(dir.path(), SCENE, TRI), &o).unwrap_err();
         assert!(e.to_string().contains("s.toml: width 65536, height 65536: image size"), "{e}");

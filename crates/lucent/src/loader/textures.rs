@@ -18,7 +18,7 @@ use crate::geometry::{Transform, Vec3};
 use crate::scene::{SceneError, SourceLocation};
 use crate::texture::{
     ColorEncoding, FilterFunction, FloatTexture, ImageCache, ImageTexture, ImageTextureParams, Texture, TextureMapping,
-    WrapMode,
+    WrapMode, WrapModes,
 };
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -49,6 +49,7 @@ fn references(t: &TextureDesc) -> Vec<(&'static str, &str)> {
             vec![("v00", b.v00.as_ref()), ("v01", b.v01.as_ref()), ("v10", b.v10.as_ref()), ("v11", b.v11.as_ref())]
         }
         TextureDesc::Constant(c) => vec![("value", Some(&c.value))],
+        TextureDesc::Step(t) => vec![("texture", Some(&t.texture))],
     };
     keyed
         .into_iter()
@@ -78,6 +79,7 @@ fn mapping(m: &Option<MappingDesc>) -> Result<TextureMapping, String> {
         Some(MappingDesc::Uv { su, sv, du, dv }) => {
             TextureMapping::uv(f(*su, 1.0), f(*sv, 1.0), f(*du, 0.0), f(*dv, 0.0))
         }
+        Some(MappingDesc::Affine { m }) => TextureMapping::UvAffine { m: m.map(Finite::get) },
         Some(MappingDesc::Spherical { transform }) => TextureMapping::spherical(&transform_of(transform)?),
         Some(MappingDesc::Cylindrical { transform }) => TextureMapping::cylindrical(&transform_of(transform)?),
         Some(MappingDesc::Planar { transform, v1, v2, du, dv }) => TextureMapping::planar(
@@ -211,12 +213,13 @@ impl<'a> TextureTable<'a> {
             },
             max_anisotropy: d.max_anisotropy.map_or(8.0, Positive::get),
             wrap: match d.wrap {
-                None | Some(WrapDesc::Repeat) => WrapMode::Repeat,
-                Some(WrapDesc::Clamp) => WrapMode::Clamp,
-                Some(WrapDesc::Black) => WrapMode::Black,
+                None => WrapMode::Repeat.into(),
+                Some(WrapSpec::Both(w)) => wrap_mode(w).into(),
+                Some(WrapSpec::Axes { s, t }) => WrapModes { s: wrap_mode(s), t: wrap_mode(t) },
             },
             scale: d.scale.map_or(1.0, Finite::get),
             invert: d.invert,
+            channel: d.channel.map(|c| c as u8),
         };
         let mapping = mapping(&d.mapping)?;
         let mipmap = self.mipmap(&d.file, enc)?;
@@ -315,6 +318,14 @@ impl<'a> TextureTable<'a> {
                 Texture::bilerp(m, v[0], v[1], v[2], v[3])
             }
             TextureDesc::Constant(c) => self.color(&c.value, &inner("value"))?,
+            // A number is a grey.
+            TextureDesc::Step(t) => Texture::Scale {
+                tex: Arc::new(Texture::Constant(Color::ONE)),
+                scale: Arc::new(FloatTexture::Step {
+                    texture: self.float_arc(&Some(t.texture.clone()), 0.0, &inner("texture"))?,
+                    threshold: t.threshold.map_or(0.5, Finite::get),
+                }),
+            },
             TextureDesc::Checker(c) => {
                 Texture::Checker { even: c.even.into(), odd: c.odd.into(), scale: c.scale.get() }
             }
@@ -376,6 +387,10 @@ impl<'a> TextureTable<'a> {
                 FloatTexture::bilerp(m, v[0], v[1], v[2], v[3])
             }
             TextureDesc::Constant(c) => self.float(&c.value, &inner("value"))?,
+            TextureDesc::Step(t) => FloatTexture::Step {
+                texture: self.float_arc(&Some(t.texture.clone()), 0.0, &inner("texture"))?,
+                threshold: t.threshold.map_or(0.5, Finite::get),
+            },
             TextureDesc::Checker(_) => {
                 return Err(format!(
                     "`{what}` needs a number, but texture \"{name}\" is a `checker`, which has colours"
@@ -402,5 +417,15 @@ fn checkerboard_space(c: &CheckerboardTextureDesc) -> Result<Result<TextureMappi
         3 if c.mapping.is_none() => Ok(Err(transform_of(&c.transform)?)),
         3 => Err("`mapping` is for a 2D checkerboard; a 3D one (`dimension = 3`) takes a `transform`".to_owned()),
         d => Err(format!("`dimension` must be 2 or 3, got {d}")),
+    }
+}
+
+/// The texture's wrap mode for a scene file's.
+fn wrap_mode(w: WrapDesc) -> WrapMode {
+    match w {
+        WrapDesc::Repeat => WrapMode::Repeat,
+        WrapDesc::Clamp => WrapMode::Clamp,
+        WrapDesc::Black => WrapMode::Black,
+        WrapDesc::MirroredRepeat => WrapMode::MirroredRepeat,
     }
 }

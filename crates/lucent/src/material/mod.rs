@@ -15,9 +15,11 @@
 //!    both steps for the path integrator.
 
 mod classic;
+mod metallic_roughness;
 mod shading;
 
 pub use classic::{ClassicMaterial, PhongBsdf};
+pub use metallic_roughness::MetallicRoughnessMaterial;
 pub use shading::{bump_map, normal_map, NormalPerturbation, ShadingGeometry, BUMP_DELTA};
 
 use crate::bsdf::{
@@ -296,6 +298,9 @@ pub enum Material {
     CoatedDiffuse(CoatedDiffuseMaterial),
     /// pbrt-v4's `coatedconductor`.
     CoatedConductor(CoatedConductorMaterial),
+    /// glTF 2.0's metallic-roughness material with the Khronos material
+    /// extensions.
+    MetallicRoughness(Box<MetallicRoughnessMaterial>),
     /// pbrt-v4's `mix`: at each hit one of the two materials is used, the
     /// second with probability `amount`, chosen deterministically:
     /// `amount ≤ 0` gives the first, `amount ≥ 1` the second, and otherwise
@@ -602,6 +607,7 @@ impl Material {
                     c.n_samples,
                 ))
             }
+            Self::MetallicRoughness(m) => m.bxdf_at(ctx),
             Self::Shaded { material, .. } => material.bxdf_at(ctx),
             Self::Mix { .. } | Self::Interface => Bxdf::Black,
         }
@@ -655,6 +661,14 @@ impl Material {
             Self::CoatedDiffuse(c) => matte(unit(c.reflectance.evaluate(&ctx)), Color::splat(dielectric_r0(c.eta))),
             Self::CoatedConductor(c) => {
                 matte(Color::ZERO, conductor_fresnel(&c.conductor, &ctx, c.interface_eta.max(1e-3)).eval(1.0))
+            }
+            Self::MetallicRoughness(m) => {
+                // Diffuse from the dielectric part, a mirror of the metal's
+                // colour (or the dielectric's 4% reflectance).
+                let base = m.base_color.as_ref().map_or(Color::ONE, |t| t.evaluate(&ctx)) * m.base_color_factor;
+                let metallic = m.metallic.evaluate(&ctx).clamp(0.0, 1.0);
+                let r0 = Color::splat(dielectric_r0(m.ior));
+                matte(unit(base * (1.0 - metallic)), unit(r0 * (1.0 - metallic) + base * metallic))
             }
             Self::Shaded { material, .. } => material.bsdf(uv),
             Self::Mix { .. } | Self::Interface => matte(Color::ZERO, Color::ZERO),

@@ -21,6 +21,15 @@ pub enum NormalPerturbation {
     /// texture is looked up at `(u, 1 − v)` by the texture module, which is
     /// also how pbrt-v4 reads its normal maps.
     NormalMap(Texture),
+    /// glTF's normal map (glTF 2.0 §3.9.3, `normalTexture.scale`): as
+    /// `NormalMap`, with the tangent-plane components of `2·rgb − 1`
+    /// multiplied by `scale` before the normal is normalised.
+    ScaledNormalMap {
+        /// The normal map.
+        map: Texture,
+        /// The scale of its x and y.
+        scale: f32,
+    },
 }
 
 /// Finite-difference step in `u` and `v` when there are no ray
@@ -105,6 +114,12 @@ impl NormalPerturbation {
         match self {
             Self::Bump(displacement) => bump_map(ctx, |tc| displacement.evaluate(tc)),
             Self::NormalMap(map) => normal_map(ctx, map.evaluate(&ctx.texture_context())),
+            Self::ScaledNormalMap { map, scale } => {
+                // 2·rgb' − 1 = (s·x, s·y, z) for x, y, z = 2·rgb − 1.
+                let rgb = map.evaluate(&ctx.texture_context());
+                let scaled = Vec3::new(scale * (rgb.x - 0.5) + 0.5, scale * (rgb.y - 0.5) + 0.5, rgb.z);
+                normal_map(ctx, scaled)
+            }
         }
     }
 }

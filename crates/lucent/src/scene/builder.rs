@@ -650,6 +650,15 @@ fn check_material(m: &Material) -> Result<(), String> {
             add_roughness(&c.interface_roughness, &mut roughness);
             add_roughness(&c.conductor_roughness, &mut roughness);
         }
+        Material::MetallicRoughness(m) => {
+            if !(m.ior.is_finite() && m.ior >= 1.0) {
+                return Err(format!("ior must be a finite number ≥ 1, got {}", m.ior));
+            }
+            let factors = [m.base_color_factor, m.specular_color_factor, m.sheen_color_factor];
+            if let Some(c) = factors.iter().find(|c| !c.is_finite() || c.min_element() < 0.0) {
+                return Err(format!("colour factors must be finite and ≥ 0, got [{}, {}, {}]", c.x, c.y, c.z));
+            }
+        }
         Material::Shaded { material, .. } => return check_material(material),
     }
     for (t, scale) in albedos {

@@ -240,7 +240,32 @@ pub fn read_image(path: &Path, encoding: ColorEncoding) -> Result<TextureImage, 
     Ok(image.drop_opaque_alpha())
 }
 
+/// Decode an image held in memory (`name` only labels errors), with
+/// `encoding` applied to the 8- and 16-bit values of *every* format, JPEG
+/// included: glTF's rule, where colour textures are sRGB and data textures
+/// (normals, roughness) linear whatever the file format (glTF 2.0 §3.8.4).
+/// Sizes are checked before texels are decoded, as [`read_image`] does.
+pub fn decode_image(name: &Path, bytes: &[u8], encoding: ColorEncoding) -> Result<TextureImage, ImageError> {
+    let image = if bytes.starts_with(b"PF") || bytes.starts_with(b"Pf") {
+        read_pfm(name, bytes)?
+    } else {
+        decode_with_rule(name, bytes, encoding, true)?
+    };
+    Ok(image.drop_opaque_alpha())
+}
+
 fn decode_with_image_crate(path: &Path, bytes: &[u8], encoding: ColorEncoding) -> Result<TextureImage, ImageError> {
+    decode_with_rule(path, bytes, encoding, false)
+}
+
+/// Decode with the `image` crate; `every_format`: `encoding` applies to
+/// all 8- and 16-bit formats, not only PNG's.
+fn decode_with_rule(
+    path: &Path,
+    bytes: &[u8],
+    encoding: ColorEncoding,
+    every_format: bool,
+) -> Result<TextureImage, ImageError> {
     use image::{DynamicImage, ImageFormat, ImageReader};
     let decode_err = |e: image::ImageError| ImageError::new(path, format!("cannot decode: {e}"));
     let reader = || -> Result<ImageReader<Cursor<&[u8]>>, ImageError> {
@@ -272,9 +297,10 @@ fn decode_with_image_crate(path: &Path, bytes: &[u8], encoding: ColorEncoding) -
 
     // Which encoding the 8- and 16-bit values carry (module table).
     let encoding = match format {
+        Some(ImageFormat::OpenExr | ImageFormat::Hdr) => ColorEncoding::Linear,
+        _ if every_format => encoding,
         Some(ImageFormat::Png) => encoding,
         Some(ImageFormat::Qoi) => qoi_encoding(bytes),
-        Some(ImageFormat::OpenExr | ImageFormat::Hdr) => ColorEncoding::Linear,
         _ => ColorEncoding::Srgb,
     };
     let (w, h) = (dynamic.width(), dynamic.height());

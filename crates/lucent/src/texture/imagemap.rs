@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use super::mapping::TextureMapping;
-use super::mipmap::{FilterFunction, MipFilterOptions, MipMap, WrapMode};
+use super::mipmap::{FilterFunction, MipFilterOptions, MipMap, WrapMode, WrapModes};
 use super::TextureContext;
 use crate::color::Color;
 use crate::geometry::Vec2;
@@ -17,12 +17,18 @@ pub struct ImageTextureParams {
     pub filter: FilterFunction,
     /// `maxanisotropy` (default 8; used by EWA only).
     pub max_anisotropy: f32,
-    /// `wrap` (default `"repeat"`).
-    pub wrap: WrapMode,
+    /// `wrap` (default `"repeat"`), per axis.
+    pub wrap: WrapModes,
     /// `scale`: multiplies every value (default 1).
     pub scale: f32,
     /// `invert`: `1 − value`, clamped at 0 (default false).
     pub invert: bool,
+    /// For a float texture: the one channel it reads (0 red, 1 green, 2
+    /// blue, 3 alpha; grey images have grey in 0–2 and alpha 1), as glTF
+    /// reads roughness from green and metallic from blue. `None` (the
+    /// default) is pbrt-v4's rule (see
+    /// [`TexelValue`](super::mipmap::TexelValue)).
+    pub channel: Option<u8>,
 }
 
 impl Default for ImageTextureParams {
@@ -30,9 +36,10 @@ impl Default for ImageTextureParams {
         Self {
             filter: FilterFunction::Bilinear,
             max_anisotropy: 8.0,
-            wrap: WrapMode::Repeat,
+            wrap: WrapModes::from(WrapMode::Repeat),
             scale: 1.0,
             invert: false,
+            channel: None,
         }
     }
 }
@@ -123,12 +130,17 @@ impl ImageTexture {
         rgb.max(Color::ZERO)
     }
 
-    /// The number at `ctx`: `scale ×` the filtered texel (grey value, mean
-    /// of RGB, or alpha of an RGBA image with real alpha; see
+    /// The number at `ctx`: `scale ×` the filtered texel (its `channel` if
+    /// one is set, else the grey value, mean of RGB, or alpha of an RGBA
+    /// image with real alpha; see
     /// [`TexelValue`](super::mipmap::TexelValue)), then `max(0, 1 − ·)` if
     /// inverted (pbrt-v4 `FloatImageTexture`: not clamped otherwise).
     pub fn evaluate_float(&self, ctx: &TextureContext) -> f32 {
-        let v = self.params.scale * self.lookup::<f32>(ctx);
+        let v = match self.params.channel {
+            None => self.lookup::<f32>(ctx),
+            Some(c) => self.lookup::<super::mipmap::Texel4>(ctx).0[usize::from(c.min(3))],
+        };
+        let v = self.params.scale * v;
         if self.params.invert {
             (1.0 - v).max(0.0)
         } else {
@@ -189,7 +201,7 @@ mod tests {
 
     #[test]
     fn wrap_and_mapping_apply() {
-        let p = ImageTextureParams { wrap: WrapMode::Black, ..Default::default() };
+        let p = ImageTextureParams { wrap: WrapMode::Black.into(), ..Default::default() };
         let t = ImageTexture::new(TextureMapping::default(), quad(), p);
         assert_eq!(t.evaluate_rgb(&uv(1.25, 0.25)), Color::ZERO);
         let t = ImageTexture::new(TextureMapping::default(), quad(), ImageTextureParams::default());

@@ -57,6 +57,14 @@ pub enum TextureMapping {
         /// Offset added to `t`.
         dv: f32,
     },
+    /// An affine map of the surface's `(u, v)`: `s = m[0]·u + m[1]·v +
+    /// m[2]`, `t = m[3]·u + m[4]·v + m[5]`. glTF's textures use it: glTF's
+    /// `v` runs down the image, and `KHR_texture_transform` offsets,
+    /// rotates and scales `(u, v)` before the lookup.
+    UvAffine {
+        /// The two rows of the 2×3 matrix.
+        m: [f32; 6],
+    },
     /// Spherical coordinates of the point around the texture-space origin.
     Spherical {
         /// World (render) space to texture space.
@@ -122,6 +130,13 @@ impl TextureMapping {
                 dsdy: su * ctx.dudy,
                 dtdx: sv * ctx.dvdx,
                 dtdy: sv * ctx.dvdy,
+            },
+            Self::UvAffine { m } => TexCoord2D {
+                st: Vec2::new(m[0] * ctx.uv.x + m[1] * ctx.uv.y + m[2], m[3] * ctx.uv.x + m[4] * ctx.uv.y + m[5]),
+                dsdx: m[0] * ctx.dudx + m[1] * ctx.dvdx,
+                dsdy: m[0] * ctx.dudy + m[1] * ctx.dvdy,
+                dtdx: m[3] * ctx.dudx + m[4] * ctx.dvdx,
+                dtdy: m[3] * ctx.dudy + m[4] * ctx.dvdy,
             },
             Self::Spherical { texture_from_world: t } => {
                 let p = t.point(ctx.p);

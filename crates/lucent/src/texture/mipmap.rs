@@ -39,6 +39,27 @@ pub enum WrapMode {
     Clamp,
     /// Zero outside the image.
     Black,
+    /// The image tiles the plane mirrored every other time, so that edges
+    /// meet their own reflection (glTF's `MIRRORED_REPEAT`).
+    MirroredRepeat,
+}
+
+/// The wrap modes of the two image axes: `s` (across) and `t` (down the
+/// rows). pbrt-v4 has one mode for both (`From<WrapMode>`); glTF samplers
+/// set `wrapS` and `wrapT` apart.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct WrapModes {
+    /// Across the image.
+    pub s: WrapMode,
+    /// Down the image.
+    pub t: WrapMode,
+}
+
+impl From<WrapMode> for WrapModes {
+    /// The same mode on both axes.
+    fn from(mode: WrapMode) -> Self {
+        Self { s: mode, t: mode }
+    }
 }
 
 impl WrapMode {
@@ -62,6 +83,11 @@ impl WrapMode {
             Self::Repeat => Some(i.rem_euclid(n) as u32),
             Self::Clamp => Some(i.clamp(0, n - 1) as u32),
             Self::Black => (0..n).contains(&i).then_some(i as u32),
+            Self::MirroredRepeat => {
+                // Period 2n: i, then n − 1 − (i − n) back down.
+                let j = i.rem_euclid(2 * n);
+                Some(if j < n { j } else { 2 * n - 1 - j } as u32)
+            }
         }
     }
 }
@@ -126,6 +152,40 @@ impl TexelValue for f32 {
             1 => t[0],
             3 => (t[0] + t[1] + t[2]) / 3.0,
             _ => t[3],
+        }
+    }
+}
+
+/// All four channels of a texel, for reading one of them
+/// ([`ImageTexture::evaluate_float`](super::ImageTexture::evaluate_float)
+/// with a `channel`): a grey texel is `(v, v, v, 1)`, an RGB texel has
+/// alpha 1.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Texel4(pub [f32; 4]);
+
+impl Add for Texel4 {
+    type Output = Self;
+    #[inline]
+    fn add(self, o: Self) -> Self {
+        Self(std::array::from_fn(|i| self.0[i] + o.0[i]))
+    }
+}
+
+impl Mul<f32> for Texel4 {
+    type Output = Self;
+    #[inline]
+    fn mul(self, k: f32) -> Self {
+        Self(self.0.map(|v| v * k))
+    }
+}
+
+impl TexelValue for Texel4 {
+    #[inline]
+    fn from_channels(t: &[f32]) -> Self {
+        match t.len() {
+            1 => Self([t[0], t[0], t[0], 1.0]),
+            3 => Self([t[0], t[1], t[2], 1.0]),
+            _ => Self([t[0], t[1], t[2], t[3]]),
         }
     }
 }
@@ -284,9 +344,10 @@ impl MipMap {
 
     /// Texel `(x, y)` of `level` after wrapping (zero where `Black` wraps to
     /// nothing).
-    pub fn texel<T: TexelValue>(&self, level: usize, x: i64, y: i64, wrap: WrapMode) -> T {
+    pub fn texel<T: TexelValue>(&self, level: usize, x: i64, y: i64, wrap: impl Into<WrapModes>) -> T {
+        let wrap = wrap.into();
         let im = &self.levels[level.min(self.levels.len() - 1)];
-        match (wrap.remap(x, im.width()), wrap.remap(y, im.height())) {
+        match (wrap.s.remap(x, im.width()), wrap.t.remap(y, im.height())) {
             (Some(x), Some(y)) => T::from_channels(im.texel(x, y).expect("wrapped inside")),
             _ => T::default(),
         }
@@ -294,7 +355,8 @@ impl MipMap {
 
     /// Bilinear interpolation of the four texels around `st` in `level`
     /// (weights from the distances to the texel centres).
-    pub fn bilerp<T: TexelValue>(&self, level: usize, st: Vec2, wrap: WrapMode) -> T {
+    pub fn bilerp<T: TexelValue>(&self, level: usize, st: Vec2, wrap: impl Into<WrapModes>) -> T {
+        let wrap = wrap.into();
         let im = &self.levels[level.min(self.levels.len() - 1)];
         let x = st.x * im.width() as f32 - 0.5;
         let y = st.y * im.height() as f32 - 0.5;
@@ -324,8 +386,9 @@ impl MipMap {
         dst0: Vec2,
         dst1: Vec2,
         options: &MipFilterOptions,
-        wrap: WrapMode,
+        wrap: impl Into<WrapModes>,
     ) -> T {
+        let wrap = wrap.into();
         let top = self.levels.len() - 1;
         if options.filter != FilterFunction::Ewa {
             // An isotropic footprint as wide as the largest differential.
@@ -379,12 +442,26 @@ impl MipMap {
     }
 
     /// The colour at `st` (see [`MipMap::filter`]).
-    pub fn filter_rgb(&self, st: Vec2, dst0: Vec2, dst1: Vec2, options: &MipFilterOptions, wrap: WrapMode) -> Color {
+    pub fn filter_rgb(
+        &self,
+        st: Vec2,
+        dst0: Vec2,
+        dst1: Vec2,
+        options: &MipFilterOptions,
+        wrap: impl Into<WrapModes>,
+    ) -> Color {
         self.filter(st, dst0, dst1, options, wrap)
     }
 
     /// The number at `st` (see [`MipMap::filter`] and [`TexelValue`]).
-    pub fn filter_float(&self, st: Vec2, dst0: Vec2, dst1: Vec2, options: &MipFilterOptions, wrap: WrapMode) -> f32 {
+    pub fn filter_float(
+        &self,
+        st: Vec2,
+        dst0: Vec2,
+        dst1: Vec2,
+        options: &MipFilterOptions,
+        wrap: impl Into<WrapModes>,
+    ) -> f32 {
         self.filter(st, dst0, dst1, options, wrap)
     }
 
@@ -392,7 +469,7 @@ impl MipMap {
     /// ellipse `A s² + B s t + C t² < 1` spanned by the axes (in texel units,
     /// each widened by one texel so that it covers at least a texel),
     /// weighted by the Gaussian `e^{−2r²} − e^{−2}` of their radius.
-    fn ewa<T: TexelValue>(&self, level: usize, st: Vec2, d0: Vec2, d1: Vec2, wrap: WrapMode) -> T {
+    fn ewa<T: TexelValue>(&self, level: usize, st: Vec2, d0: Vec2, d1: Vec2, wrap: WrapModes) -> T {
         if level >= self.levels.len() {
             return self.texel(self.levels.len() - 1, 0, 0, wrap);
         }

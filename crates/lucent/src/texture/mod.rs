@@ -38,11 +38,11 @@ mod mipmap;
 
 use std::sync::Arc;
 
-pub use self::image::{read_image, read_pfm, ColorEncoding, ImageError, TextureImage};
+pub use self::image::{decode_image, read_image, read_pfm, ColorEncoding, ImageError, TextureImage};
 pub use cache::ImageCache;
 pub use imagemap::{ImageTexture, ImageTextureParams};
 pub use mapping::{TexCoord2D, TextureMapping};
-pub use mipmap::{FilterFunction, ImageSource, MipFilterOptions, MipMap, TexelValue, WrapMode};
+pub use mipmap::{FilterFunction, ImageSource, MipFilterOptions, MipMap, TexelValue, WrapMode, WrapModes};
 
 use crate::color::Color;
 use crate::geometry::{Transform, Vec2, Vec3};
@@ -437,6 +437,14 @@ pub enum FloatTexture {
     Checkerboard(Arc<Checkerboard<FloatTexture>>),
     /// pbrt's `bilerp`.
     Bilerp(Arc<Bilerp<f32>>),
+    /// 1 where `texture ≥ threshold`, else 0: glTF's alpha cut-off
+    /// (`alphaMode` `MASK` with `alphaCutoff`, glTF 2.0 §3.9.5).
+    Step {
+        /// The texture compared.
+        texture: Arc<FloatTexture>,
+        /// The cut-off.
+        threshold: f32,
+    },
 }
 
 impl FloatTexture {
@@ -540,6 +548,13 @@ impl FloatTexture {
             }
             FloatTexture::Checkerboard(c) => blend(c.weight(ctx), || c.tex1.evaluate(ctx), || c.tex2.evaluate(ctx)),
             FloatTexture::Bilerp(b) => b.evaluate(ctx),
+            FloatTexture::Step { texture, threshold } => {
+                if texture.evaluate(ctx) >= *threshold {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
         }
     }
 }

@@ -32,11 +32,14 @@ pub struct MaterialDesc {
     pub displacement: Option<TexValue>,
     /// A tangent-space normal map: an image file relative to the scene file.
     pub normal_map: Option<String>,
+    /// Scale of the normal map's tangent-plane components (glTF's
+    /// `normalTexture.scale`; default 1).
+    pub normal_scale: Option<f32>,
 }
 
 impl From<MaterialKindDesc> for MaterialDesc {
     fn from(kind: MaterialKindDesc) -> Self {
-        Self { kind, displacement: None, normal_map: None }
+        Self { kind, displacement: None, normal_map: None, normal_scale: None }
     }
 }
 
@@ -68,6 +71,63 @@ pub enum MaterialKindDesc {
     Mix(MixMaterialDesc),
     /// No surface (the boundary of a medium).
     Interface(InterfaceDesc),
+    /// glTF 2.0's metallic-roughness material.
+    MetallicRoughness(MetallicRoughnessDesc),
+}
+
+/// Keys of glTF 2.0's metallic-roughness material (what `lucent convert`
+/// writes for a glTF file's materials). Each key is a number or colour, or
+/// the name of a texture; glTF's factors that multiply a colour texture
+/// have keys of their own.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MetallicRoughnessDesc {
+    /// Base colour (default white).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base_color: Option<TexValue>,
+    /// Multiplies a `base_color` texture (default white).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base_color_factor: Option<Rgb>,
+    /// Metalness, 0 to 1 (default 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub metallic: Option<TexValue>,
+    /// Perceptual roughness, 0 to 1, GGX α = roughness² (default 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub roughness: Option<TexValue>,
+    /// Index of refraction (default 1.5).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ior: Option<Positive>,
+    /// Strength of the dielectric's specular reflection (default 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub specular: Option<TexValue>,
+    /// Colour of the dielectric's specular reflection (default white).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub specular_color: Option<TexValue>,
+    /// Multiplies a `specular_color` texture (default white).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub specular_color_factor: Option<Rgb>,
+    /// Fraction of the dielectric part transmitted (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transmission: Option<TexValue>,
+    /// Transmission through a thin wall, without refraction (default
+    /// true); false: refraction by `ior`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thin: Option<bool>,
+    /// Strength of a clear coat (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clearcoat: Option<TexValue>,
+    /// Perceptual roughness of the coat (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clearcoat_roughness: Option<TexValue>,
+    /// Colour of the sheen (default black: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sheen_color: Option<TexValue>,
+    /// Multiplies a `sheen_color` texture (default white).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sheen_color_factor: Option<Rgb>,
+    /// Perceptual roughness of the sheen (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sheen_roughness: Option<TexValue>,
 }
 
 /// Keys of a thin dielectric.
@@ -326,6 +386,7 @@ const KINDS: &[&str] = &[
     "coated_conductor",
     "mix",
     "interface",
+    "metallic_roughness",
 ];
 
 /// A material is a table with exactly one kind, plus the optional
@@ -341,11 +402,15 @@ impl<'de> Deserialize<'de> for MaterialDesc {
             }
             fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<MaterialDesc, A::Error> {
                 let (mut kind, mut displacement, mut normal_map) = (None::<(String, MaterialKindDesc)>, None, None);
+                let mut normal_scale = None;
                 while let Some(key) = map.next_key::<String>()? {
                     match key.as_str() {
                         "displacement" if displacement.is_none() => displacement = Some(map.next_value()?),
                         "normal_map" if normal_map.is_none() => normal_map = Some(map.next_value::<String>()?),
-                        "displacement" | "normal_map" => {
+                        "normal_scale" if normal_scale.is_none() => {
+                            normal_scale = Some(map.next_value::<Finite>()?.get())
+                        }
+                        "displacement" | "normal_map" | "normal_scale" => {
                             return Err(A::Error::custom(format!("duplicate key `{key}`")))
                         }
                         _ => {
@@ -367,9 +432,10 @@ impl<'de> Deserialize<'de> for MaterialDesc {
                                 "coated_conductor" => MaterialKindDesc::CoatedConductor(map.next_value()?),
                                 "mix" => MaterialKindDesc::Mix(map.next_value()?),
                                 "interface" => MaterialKindDesc::Interface(map.next_value()?),
+                                "metallic_roughness" => MaterialKindDesc::MetallicRoughness(map.next_value()?),
                                 _ => {
                                     return Err(A::Error::custom(format!(
-                                        "unknown material kind `{key}`: expected {} (and optionally `displacement`, `normal_map`)",
+                                        "unknown material kind `{key}`: expected {} (and optionally `displacement`, `normal_map`, `normal_scale`)",
                                         kinds_list(KINDS)
                                     )))
                                 }
@@ -381,7 +447,10 @@ impl<'de> Deserialize<'de> for MaterialDesc {
                 let Some((_, kind)) = kind else {
                     return Err(A::Error::custom(format!("a material needs a kind: {}", kinds_list(KINDS))));
                 };
-                Ok(MaterialDesc { kind, displacement, normal_map })
+                if normal_scale.is_some() && normal_map.is_none() {
+                    return Err(A::Error::custom("`normal_scale` scales a `normal_map`, and there is none"));
+                }
+                Ok(MaterialDesc { kind, displacement, normal_map, normal_scale })
             }
         }
         d.deserialize_map(KindVisitor)
@@ -393,13 +462,19 @@ impl<'de> Deserialize<'de> for MaterialDesc {
 impl Serialize for MaterialDesc {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeMap;
-        let n = 1 + self.displacement.is_some() as usize + self.normal_map.is_some() as usize;
+        let n = 1
+            + self.displacement.is_some() as usize
+            + self.normal_map.is_some() as usize
+            + self.normal_scale.is_some() as usize;
         let mut map = s.serialize_map(Some(n))?;
         if let Some(d) = &self.displacement {
             map.serialize_entry("displacement", d)?;
         }
         if let Some(n) = &self.normal_map {
             map.serialize_entry("normal_map", n)?;
+        }
+        if let Some(k) = &self.normal_scale {
+            map.serialize_entry("normal_scale", k)?;
         }
         match &self.kind {
             MaterialKindDesc::Matte(m) => map.serialize_entry("matte", m)?,
@@ -414,6 +489,7 @@ impl Serialize for MaterialDesc {
             MaterialKindDesc::CoatedConductor(m) => map.serialize_entry("coated_conductor", m)?,
             MaterialKindDesc::Mix(m) => map.serialize_entry("mix", m)?,
             MaterialKindDesc::Interface(m) => map.serialize_entry("interface", m)?,
+            MaterialKindDesc::MetallicRoughness(m) => map.serialize_entry("metallic_roughness", m)?,
         }
         map.end()
     }

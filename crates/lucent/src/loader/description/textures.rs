@@ -125,6 +125,38 @@ pub enum WrapDesc {
     Clamp,
     /// Black outside.
     Black,
+    /// Tiles mirrored every other time (glTF's `MIRRORED_REPEAT`).
+    MirroredRepeat,
+}
+
+/// One channel of an image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ChannelDesc {
+    /// Red.
+    R,
+    /// Green.
+    G,
+    /// Blue.
+    B,
+    /// Alpha.
+    A,
+}
+
+/// The wrap of an image texture: one mode for both axes (`wrap =
+/// "clamp"`) or one per axis (`wrap = { s = "repeat", t = "clamp" }`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(untagged)]
+pub enum WrapSpec {
+    /// The same mode across and down.
+    Both(WrapDesc),
+    /// `s` across, `t` down.
+    Axes {
+        /// Across the image.
+        s: WrapDesc,
+        /// Down the image.
+        t: WrapDesc,
+    },
 }
 
 /// A 2D texture mapping: `{ uv = { … } }`, `{ spherical = { … } }`,
@@ -148,6 +180,13 @@ pub enum MappingDesc {
         /// Offset of `t` (default 0).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         dv: Option<Finite>,
+    },
+    /// `(s, t) = (m[0]·u + m[1]·v + m[2], m[3]·u + m[4]·v + m[5])`: any
+    /// affine map of `(u, v)` (what glTF's textures and
+    /// `KHR_texture_transform` convert to).
+    Affine {
+        /// The two rows of the 2×3 matrix.
+        m: [Finite; 6],
     },
     /// Spherical coordinates about the texture-space origin.
     Spherical {
@@ -198,7 +237,11 @@ pub struct ImageTextureDesc {
     pub max_anisotropy: Option<Positive>,
     /// Outside the image (default repeat).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub wrap: Option<WrapDesc>,
+    pub wrap: Option<WrapSpec>,
+    /// A float texture's one channel: `"r"`, `"g"`, `"b"` or `"a"`
+    /// (default: grey, the mean of RGB, or alpha where the image has it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub channel: Option<ChannelDesc>,
     /// `"srgb"`, `"linear"` or `"gamma G"` (default: sRGB for PNG files,
     /// linear otherwise).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -304,6 +347,18 @@ pub struct ConstantTextureDesc {
     pub value: TexValue,
 }
 
+/// `[textures.NAME.step]`: 1 where `texture ≥ threshold`, else 0 (numbers
+/// only; glTF's alpha cut-off).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct StepTextureDesc {
+    /// The texture compared (a number or a texture's name).
+    pub texture: TexValue,
+    /// The cut-off (default 0.5).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub threshold: Option<Finite>,
+}
+
 /// A texture: `[textures.NAME.KIND]` with one kind.
 #[derive(Clone, Debug, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -324,11 +379,13 @@ pub enum TextureDesc {
     Constant(ConstantTextureDesc),
     /// lucent's `(u, v)` checker (colours only).
     Checker(CheckerDesc),
+    /// A threshold (numbers only).
+    Step(StepTextureDesc),
 }
 
 /// The kinds of texture, for messages.
 pub(crate) const TEXTURE_KINDS: &[&str] =
-    &["image", "scale", "mix", "direction_mix", "checkerboard", "bilerp", "constant", "checker"];
+    &["image", "scale", "mix", "direction_mix", "checkerboard", "bilerp", "constant", "checker", "step"];
 
 pub(crate) fn kinds_list(kinds: &[&str]) -> String {
     let quoted: Vec<String> = kinds.iter().map(|k| format!("`{k}`")).collect();
@@ -360,6 +417,7 @@ impl<'de> Deserialize<'de> for TextureDesc {
                     "bilerp" => TextureDesc::Bilerp(map.next_value()?),
                     "constant" => TextureDesc::Constant(map.next_value()?),
                     "checker" => TextureDesc::Checker(map.next_value()?),
+                    "step" => TextureDesc::Step(map.next_value()?),
                     _ => return Err(A::Error::unknown_variant(&kind, TEXTURE_KINDS)),
                 };
                 if let Some(second) = map.next_key::<String>()? {

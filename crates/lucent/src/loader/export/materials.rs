@@ -22,10 +22,11 @@ use crate::loader::values::*;
 use crate::material::{Material, NormalPerturbation, Roughness};
 use crate::texture::{
     Checkerboard, CheckerboardMapping, ColorEncoding, FilterFunction, FloatTexture, ImageTexture, ImageTextureParams,
-    Texture, TextureMapping, WrapMode,
+    MipMap, Texture, TextureMapping, WrapMode,
 };
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Collects the `[textures]` a set of exported materials needs.
 pub(crate) struct TextureExport {
@@ -36,6 +37,11 @@ pub(crate) struct TextureExport {
     out_dir: PathBuf,
     /// Names by description (its JSON text): equal textures share a name.
     by_desc: HashMap<String, String>,
+    /// The folder (relative to `out_dir`) that images made in memory (a
+    /// glTF file's embedded images) are written to.
+    image_dir: String,
+    /// Those images, each with its file name relative to `out_dir`.
+    pub images: Vec<(String, Arc<MipMap>)>,
 }
 
 /// A value for an `f32` key that must be finite and ≥ 0.
@@ -91,6 +97,13 @@ fn mapping_desc(m: &TextureMapping) -> Result<Option<MappingDesc>, String> {
                 })
             }
         }
+        TextureMapping::UvAffine { m } => {
+            let mut out = Vec::with_capacity(6);
+            for v in m {
+                out.push(finite(*v, "m")?);
+            }
+            Some(MappingDesc::Affine { m: out.try_into().expect("six entries") })
+        }
         TextureMapping::Spherical { texture_from_world } => {
             Some(MappingDesc::Spherical { transform: transform_ops(&texture_from_world.inverse()) })
         }
@@ -113,7 +126,32 @@ impl TextureExport {
         let out_dir = std::fs::canonicalize(out_dir)
             .or_else(|_| std::path::absolute(out_dir))
             .unwrap_or_else(|_| out_dir.to_path_buf());
-        Self { textures: BTreeMap::new(), out_dir, by_desc: HashMap::new() }
+        Self {
+            textures: BTreeMap::new(),
+            out_dir,
+            by_desc: HashMap::new(),
+            image_dir: "textures".to_owned(),
+            images: Vec::new(),
+        }
+    }
+
+    /// Write images made in memory into `dir` (relative to the output
+    /// directory) instead of `textures/`.
+    pub fn with_image_dir(mut self, dir: &str) -> Self {
+        self.image_dir = dir.to_owned();
+        self
+    }
+
+    /// The file name (relative to the output directory) of an image made in
+    /// memory: written as a linear EXR of its texels, so that it reads back
+    /// exactly (see `export_scene`).
+    fn memory_image(&mut self, map: &Arc<MipMap>) -> String {
+        if let Some((name, _)) = self.images.iter().find(|(_, m)| Arc::ptr_eq(m, map)) {
+            return name.clone();
+        }
+        let name = format!("{}/image-{}.exr", self.image_dir, self.images.len() + 1);
+        self.images.push((name.clone(), Arc::clone(map)));
+        name
     }
 
     /// A path as written: relative to the output directory when the two
@@ -145,13 +183,18 @@ impl TextureExport {
 
     /// The table of an image texture.
     fn image(&mut self, im: &ImageTexture) -> Result<TexValue, String> {
-        let source = im
-            .mipmap()
-            .source()
-            .ok_or("an image texture made in memory (not read from a file) cannot be written to a scene file")?;
-        let ImageTextureParams { filter, max_anisotropy, wrap, scale, invert } = *im.params();
+        let (file, encoding) = match im.mipmap().source() {
+            Some(source) => (
+                self.path_name(&source.path),
+                (source.encoding != ColorEncoding::pbrt_default_for(&source.path))
+                    .then(|| encoding_name(source.encoding)),
+            ),
+            // Texels in memory are linear: an EXR of them reads back as is.
+            None => (self.memory_image(im.mipmap()), None),
+        };
+        let ImageTextureParams { filter, max_anisotropy, wrap, scale, invert, channel } = *im.params();
         let desc = ImageTextureDesc {
-            file: self.path_name(&source.path),
+            file,
             mapping: mapping_desc(im.mapping())?,
             filter: match filter {
                 FilterFunction::Bilinear => None,
@@ -164,17 +207,18 @@ impl TextureExport {
             } else {
                 Some(positive(max_anisotropy, "max_anisotropy")?)
             },
-            wrap: match wrap {
-                WrapMode::Repeat => None,
-                WrapMode::Clamp => Some(WrapDesc::Clamp),
-                WrapMode::Black => Some(WrapDesc::Black),
+            wrap: match (wrap_desc(wrap.s), wrap_desc(wrap.t)) {
+                (WrapDesc::Repeat, WrapDesc::Repeat) => None,
+                (s, t) if s == t => Some(WrapSpec::Both(s)),
+                (s, t) => Some(WrapSpec::Axes { s, t }),
             },
-            encoding: (source.encoding != ColorEncoding::pbrt_default_for(&source.path))
-                .then(|| encoding_name(source.encoding)),
+            encoding,
             scale: finite_unless(scale, 1.0, "scale")?,
             invert,
+            channel: channel
+                .map(|c| [ChannelDesc::R, ChannelDesc::G, ChannelDesc::B, ChannelDesc::A][usize::from(c.min(3))]),
         };
-        let stem = source.path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        let stem = Path::new(&desc.file).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         Ok(self.name(TextureDesc::Image(desc), &stem))
     }
 
@@ -226,6 +270,13 @@ impl TextureExport {
                     v11: Some(TexValue::Number(b.v11)),
                 };
                 self.name(TextureDesc::Bilerp(desc), "bilerp")
+            }
+            FloatTexture::Step { texture, threshold } => {
+                let desc = StepTextureDesc {
+                    texture: self.float(texture)?,
+                    threshold: Some(finite(*threshold, "threshold")?),
+                };
+                self.name(TextureDesc::Step(desc), "step")
             }
         })
     }
@@ -327,11 +378,14 @@ impl TextureExport {
     pub fn material(&mut self, m: &Material, material_names: &[String]) -> Result<MaterialDesc, String> {
         // The shading modifiers as the loader applies them: the bump
         // innermost, then the normal map.
-        let (m, normal_map) = match m {
+        let (m, normal_map, normal_scale) = match m {
             Material::Shaded { material, normal: NormalPerturbation::NormalMap(t) } => {
-                (&**material, Some(self.normal_map(t)?))
+                (&**material, Some(self.normal_map(t)?), None)
             }
-            m => (m, None),
+            Material::Shaded { material, normal: NormalPerturbation::ScaledNormalMap { map, scale } } => {
+                (&**material, Some(self.normal_map(map)?), (*scale != 1.0).then_some(*scale))
+            }
+            m => (m, None, None),
         };
         let (m, displacement) = match m {
             Material::Shaded { material, normal: NormalPerturbation::Bump(d) } => (&**material, Some(self.float(d)?)),
@@ -459,6 +513,40 @@ impl TextureExport {
                     n_samples: (c.n_samples != 1).then_some(c.n_samples),
                 })
             }
+            Material::MetallicRoughness(m) => {
+                // A colour and its factor: one constant, or the texture with
+                // the factor beside it (omitted when white).
+                let mut factored = |factor: Color, t: &Option<Texture>, default: Color| -> Result<_, String> {
+                    Ok(match t {
+                        None => ((factor != default).then(|| Self::color_value(factor)).transpose()?, None),
+                        Some(t) => (Some(self.color(t)?), (factor != Color::ONE).then(|| rgb(factor))),
+                    })
+                };
+                let (base_color, base_color_factor) = factored(m.base_color_factor, &m.base_color, Color::ONE)?;
+                let (specular_color, specular_color_factor) =
+                    factored(m.specular_color_factor, &m.specular_color, Color::ONE)?;
+                let (sheen_color, sheen_color_factor) = factored(m.sheen_color_factor, &m.sheen_color, Color::ZERO)?;
+                let mut float = |t: &FloatTexture, default: f32| -> Result<Option<TexValue>, String> {
+                    (*t != FloatTexture::Constant(default)).then(|| self.float(t)).transpose()
+                };
+                MaterialKindDesc::MetallicRoughness(MetallicRoughnessDesc {
+                    base_color,
+                    base_color_factor,
+                    metallic: float(&m.metallic, 1.0)?,
+                    roughness: float(&m.roughness, 1.0)?,
+                    ior: (m.ior != 1.5).then(|| positive(m.ior, "ior")).transpose()?,
+                    specular: float(&m.specular, 1.0)?,
+                    specular_color,
+                    specular_color_factor,
+                    transmission: float(&m.transmission, 0.0)?,
+                    thin: (!m.thin).then_some(false),
+                    clearcoat: float(&m.clearcoat, 0.0)?,
+                    clearcoat_roughness: float(&m.clearcoat_roughness, 0.0)?,
+                    sheen_color,
+                    sheen_color_factor,
+                    sheen_roughness: float(&m.sheen_roughness, 0.0)?,
+                })
+            }
             Material::Mix { materials, amount } => {
                 let name = |i: usize| {
                     material_names
@@ -474,7 +562,7 @@ impl TextureExport {
             Material::Interface => MaterialKindDesc::Interface(InterfaceDesc {}),
             Material::Shaded { .. } => unreachable!("unwrapped above"),
         };
-        Ok(MaterialDesc { kind, displacement, normal_map })
+        Ok(MaterialDesc { kind, displacement, normal_map, normal_scale })
     }
 
     /// A normal map as its file: only the form the loaders make (an image
@@ -486,14 +574,25 @@ impl TextureExport {
                 .to_owned()
         };
         let Texture::Image(im) = t else { return Err(unsupported()) };
-        let source = im.mipmap().source().ok_or_else(unsupported)?;
-        if *im.mapping() != TextureMapping::default()
-            || *im.params() != ImageTextureParams::default()
-            || source.encoding != ColorEncoding::Linear
-        {
+        if *im.mapping() != TextureMapping::default() || *im.params() != ImageTextureParams::default() {
             return Err(unsupported());
         }
-        Ok(self.path_name(&source.path))
+        match im.mipmap().source() {
+            Some(source) if source.encoding == ColorEncoding::Linear => Ok(self.path_name(&source.path)),
+            Some(_) => Err(unsupported()),
+            // Texels in memory are linear, as the EXR written of them.
+            None => Ok(self.memory_image(im.mipmap())),
+        }
+    }
+}
+
+/// The scene file's name of a wrap mode.
+fn wrap_desc(w: WrapMode) -> WrapDesc {
+    match w {
+        WrapMode::Repeat => WrapDesc::Repeat,
+        WrapMode::Clamp => WrapDesc::Clamp,
+        WrapMode::Black => WrapDesc::Black,
+        WrapMode::MirroredRepeat => WrapDesc::MirroredRepeat,
     }
 }
 
@@ -553,9 +652,10 @@ mod tests {
         let params = ImageTextureParams {
             filter: FilterFunction::Ewa,
             max_anisotropy: 4.0,
-            wrap: WrapMode::Clamp,
+            wrap: WrapMode::Clamp.into(),
             scale: 0.5,
             invert: true,
+            channel: None,
         };
         let image = Arc::new(ImageTexture::new(TextureMapping::uv(2.0, 3.0, 0.25, 0.0), srgb.clone(), params));
         let moved = Transform::translate(Vec3::new(1.0, 2.0, 3.0));
@@ -753,14 +853,26 @@ Shape "sphere"
     }
 
     #[test]
-    fn images_made_in_memory_cannot_be_written() {
+    fn images_made_in_memory_are_written_beside_the_scene() {
         let pixels = crate::texture::TextureImage::new(1, 1, 3, vec![0.5, 0.5, 0.5]).unwrap();
         let mipmap = Arc::new(crate::texture::MipMap::new(pixels).unwrap());
-        let t = Texture::image(Arc::new(ImageTexture::new(TextureMapping::default(), mipmap, Default::default())));
-        let mut export = TextureExport::new(Path::new("."));
-        let e = export.material(&Material::Diffuse { reflectance: t }, &[]).unwrap_err();
-        assert!(e.contains("made in memory") && e.contains("cannot be written"), "{e}");
-        assert!(export.textures.is_empty());
+        let t = Texture::image(Arc::new(ImageTexture::new(
+            TextureMapping::default(),
+            Arc::clone(&mipmap),
+            Default::default(),
+        )));
+        let mut export = TextureExport::new(Path::new(".")).with_image_dir("scene-textures");
+        let m = Material::Diffuse { reflectance: t };
+        let desc = export.material(&m, &[]).unwrap();
+        // The same image twice is one file.
+        export.material(&m, &[]).unwrap();
+        assert_eq!(export.images.len(), 1);
+        assert_eq!(export.images[0].0, "scene-textures/image-1.exr");
+        assert!(Arc::ptr_eq(&export.images[0].1, &mipmap));
+        let MaterialKindDesc::Diffuse(d) = desc.kind else { panic!("{desc:?}") };
+        let Some(TexValue::Name(name)) = d.color else { panic!("{d:?}") };
+        let TextureDesc::Image(im) = &export.textures[&name] else { panic!() };
+        assert_eq!(im.file, "scene-textures/image-1.exr");
         // A mix naming a material outside the list.
         let mix = Material::Mix { materials: [MaterialId::new(0), MaterialId::new(5)], amount: 0.5.into() };
         let e = export.material(&mix, &["a".to_owned()]).unwrap_err();

@@ -66,6 +66,10 @@ pub struct ExportSummary {
     pub mesh_files: Vec<PathBuf>,
     /// Triangles in the mesh files.
     pub triangles: usize,
+    /// Images written beside the scene (those made in memory, such as a
+    /// `.glb` file's embedded textures), as linear EXR files in
+    /// `STEM-textures/`.
+    pub image_files: Vec<PathBuf>,
 }
 
 /// Write `loaded` as a scene file at `path` (TOML or JSON, by extension)
@@ -81,14 +85,15 @@ pub fn export_scene(loaded: &LoadedScene, path: &Path) -> Result<ExportSummary, 
     };
     let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("scene");
     let mesh_dir_name = format!("{stem}-meshes");
-    let (description, meshes) = describe(loaded, &dir, &mesh_dir_name)?;
+    let (description, meshes, images) = describe(loaded, &dir, &mesh_dir_name, &format!("{stem}-textures"))?;
     let text = match format {
         SceneFormat::Toml => toml::to_string(&description).map_err(|e| ExportError::Serialize(e.to_string()))?,
         SceneFormat::Json => {
             serde_json::to_string_pretty(&description).map_err(|e| ExportError::Serialize(e.to_string()))? + "\n"
         }
     };
-    let mut summary = ExportSummary { scene_file: path.to_owned(), mesh_files: Vec::new(), triangles: 0 };
+    let mut summary =
+        ExportSummary { scene_file: path.to_owned(), mesh_files: Vec::new(), triangles: 0, image_files: Vec::new() };
     if !meshes.is_empty() {
         let mesh_dir = dir.join(&mesh_dir_name);
         std::fs::create_dir_all(&mesh_dir).map_err(|source| ExportError::Io { path: mesh_dir.clone(), source })?;
@@ -103,8 +108,41 @@ pub fn export_scene(loaded: &LoadedScene, path: &Path) -> Result<ExportSummary, 
             summary.mesh_files.push(file);
         }
     }
+    for (name, map) in &images {
+        let file = dir.join(name);
+        if let Some(parent) = file.parent() {
+            std::fs::create_dir_all(parent).map_err(|source| ExportError::Io { path: parent.to_owned(), source })?;
+        }
+        write_atomically(&file, &exr_bytes(map, &file)?)?;
+        summary.image_files.push(file);
+    }
     write_atomically(path, text.as_bytes())?;
     Ok(summary)
+}
+
+/// The finest level of `map` as a 32-bit float OpenEXR file (RGB, or RGBA
+/// where the image has alpha; grey as RGB).
+fn exr_bytes(map: &crate::texture::MipMap, file: &Path) -> Result<Vec<u8>, ExportError> {
+    let level = map.level(0).expect("a MIP map has a finest level");
+    let (w, h, c) = (level.width(), level.height(), level.channels());
+    let data = level.data();
+    let image = match c {
+        4 => image::DynamicImage::ImageRgba32F(
+            image::Rgba32FImage::from_raw(w, h, data.to_vec()).expect("texels match the size"),
+        ),
+        _ => {
+            let rgb: Vec<f32> = match c {
+                1 => data.iter().flat_map(|&v| [v, v, v]).collect(),
+                _ => data.to_vec(),
+            };
+            image::DynamicImage::ImageRgb32F(image::Rgb32FImage::from_raw(w, h, rgb).expect("texels match the size"))
+        }
+    };
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image
+        .write_to(&mut bytes, image::ImageFormat::OpenExr)
+        .map_err(|e| ExportError::Io { path: file.to_owned(), source: std::io::Error::other(e.to_string()) })?;
+    Ok(bytes.into_inner())
 }
 
 /// Write `bytes` to a temporary file beside `path`, then rename it to
@@ -131,10 +169,11 @@ pub(crate) fn describe(
     loaded: &LoadedScene,
     dir: &Path,
     mesh_dir: &str,
-) -> Result<(SceneDescription, NamedMeshes), ExportError> {
+    image_dir: &str,
+) -> Result<(SceneDescription, NamedMeshes, MemoryImages), ExportError> {
     let scene = &loaded.scene;
     let mut out = Describer {
-        textures: TextureExport::new(dir),
+        textures: TextureExport::new(dir).with_image_dir(image_dir),
         dir: dir.to_owned(),
         mesh_dir: mesh_dir.to_owned(),
         mesh_names: HashMap::new(),
@@ -189,8 +228,12 @@ pub(crate) fn describe(
     }
     out.d.meshes = out.mesh_files;
     out.d.textures = out.textures.textures;
-    Ok((out.d, out.meshes))
+    Ok((out.d, out.meshes, out.textures.images))
 }
+
+/// Images made in memory, to be written beside the scene file, each with
+/// its name relative to the scene file's folder.
+pub(crate) type MemoryImages = Vec<(String, Arc<crate::texture::MipMap>)>;
 
 /// The emission keys of an exported object.
 #[derive(Default)]

@@ -61,7 +61,7 @@ impl Importer<'_> {
                 FilterFunction::parse(f).map_err(|e| PbrtError::at(&param_loc(params, "filter", loc), e))?;
         }
         if let Some(w) = params.string("wrap")? {
-            options.wrap = WrapMode::parse(w).map_err(|e| PbrtError::at(&param_loc(params, "wrap", loc), e))?;
+            options.wrap = WrapMode::parse(w).map_err(|e| PbrtError::at(&param_loc(params, "wrap", loc), e))?.into();
         }
         options.scale = params.float("scale")?.unwrap_or(1.0);
         options.invert = params.bool("invert")?.unwrap_or(false);
