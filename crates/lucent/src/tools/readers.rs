@@ -38,11 +38,14 @@ pub enum Reader {
     Lpart,
     /// lucent's checkpoints, `.ckpt` ([`load_checkpoint`]).
     Checkpoint,
+    /// glTF 2.0 files, `.glb` or `.gltf` by their first bytes, imported and
+    /// rendered ([`crate::loader::gltf::import_gltf`]).
+    Gltf,
 }
 
 impl Reader {
     /// Every reader.
-    pub const ALL: [Reader; 10] = [
+    pub const ALL: [Reader; 11] = [
         Reader::Ply,
         Reader::Obj,
         Reader::PbrtParse,
@@ -53,6 +56,7 @@ impl Reader {
         Reader::Image,
         Reader::Lpart,
         Reader::Checkpoint,
+        Reader::Gltf,
     ];
 
     /// The fuzz target's name (and its folders under `fuzz/`).
@@ -68,6 +72,7 @@ impl Reader {
             Reader::Image => "image",
             Reader::Lpart => "lpart",
             Reader::Checkpoint => "checkpoint",
+            Reader::Gltf => "gltf",
         }
     }
 
@@ -85,6 +90,7 @@ impl Reader {
             Reader::PbrtImport => open_and_render("scene.pbrt", data),
             Reader::SceneToml => open_and_render("scene.toml", data),
             Reader::SceneJson => open_and_render("scene.json", data),
+            Reader::Gltf => open_and_render(if data.starts_with(b"glTF") { "scene.glb" } else { "scene.gltf" }, data),
             Reader::Pfm => crate::texture::read_pfm(Path::new("fuzz.pfm"), data).is_ok(),
             Reader::Image => {
                 // Named .tga: TGA, the one format without magic bytes, is
