@@ -63,4 +63,16 @@ else
   echo "../shared is absent: the pbrt-v4 scenes are not rendered" >&2
 fi
 
-echo "rendered $((${#scenes[@]} + pbrt)) scenes into docs/gallery/ in $((SECONDS - start)) s"
+# glTF: the metallic × roughness grid that scripts/gltf/make-scenes.py
+# builds in Blender and Blender exports (run scripts/gltf/make-references.sh
+# target/gltf-reference first; Debian's blender package).
+gltf=0
+if [ -f target/gltf-reference/mr-grid.glb ]; then
+  cargo run --release --quiet -- render target/gltf-reference/mr-grid.glb --env scenes/sky.hdr \
+    --width 640 --height 480 --spp 256 --max-indirect 10 -o docs/gallery/gltf-mr-grid.png --quiet
+  gltf=1
+else
+  echo "target/gltf-reference/mr-grid.glb is absent: the glTF scene is not rendered" >&2
+fi
+
+echo "rendered $((${#scenes[@]} + pbrt + gltf)) scenes into docs/gallery/ in $((SECONDS - start)) s"
