@@ -22,7 +22,9 @@
 # Environment: SCENES="mr-grid textured ..." (default: all), THREADS (default
 # 2), BLENDER (the program, default blender), MODES ("glb blend" by default;
 # "glb" alone halves the time; "lambert" adds NAME.cycles-lambert.exr, the glb
-# render with purely diffuse materials made Lambertian, glTF's diffuse). Every Blender run is niced (nice -n 10).
+# render with purely diffuse materials made Lambertian, glTF's diffuse;
+# "gltf" adds NAME.cycles-gltf.exr, with opaque materials made glTF's
+# layering from Cycles nodes). Every Blender run is niced (nice -n 10).
 # Needs Blender 3.4 (Debian 12: apt-get install -y blender); idempotent: all
 # outputs are rewritten.
 set -euo pipefail
@@ -103,12 +105,21 @@ for name in $scenes; do
                     --python "$here/render-cycles.py" -- "$out" "$spp" \
                     --from-glb "$outdir/$name.glb" --world "$world" --size 320 240 \
                     --threads "$threads" --preview "$png" --lambert ;;
+            gltf)
+                # As glb, with opaque Principled BSDFs made glTF's layering
+                # from Cycles nodes (render-cycles.py --gltf-brdf).
+                world="$(python3 -c 'import json, sys; print(",".join(map(str, json.load(open(sys.argv[1]))["world"])))' \
+                         "$outdir/$name.json")"
+                run "$outdir/logs/$name-gltf.log" "$name/gltf" \
+                    --python "$here/render-cycles.py" -- "$out" "$spp" \
+                    --from-glb "$outdir/$name.glb" --world "$world" --size 320 240 \
+                    --threads "$threads" --preview "$png" --gltf-brdf ;;
             blend)
                 run "$outdir/logs/$name-blend.log" "$name/blend" \
                     "$outdir/$name.blend" \
                     --python "$here/render-cycles.py" -- "$out" "$spp" \
                     --threads "$threads" --preview "$png" ;;
-            *) echo "error: unknown mode '$mode' in MODES (glb, lambert, blend)" >&2; exit 2 ;;
+            *) echo "error: unknown mode '$mode' in MODES (glb, lambert, gltf, blend)" >&2; exit 2 ;;
         esac
     done
 done

@@ -25,6 +25,12 @@ Options:
   --lambert         purely diffuse Principled BSDFs (metallic, specular and
                     transmission 0) become Lambertian Diffuse BSDFs, as glTF's
                     diffuse is (Principled v1's is Burley's)
+  --gltf-brdf       opaque Principled BSDFs (no transmission, no emission
+                    linked, no clearcoat or sheen) become glTF's layering
+                    built from Cycles nodes: mix(Lambert(base), GGX(white),
+                    Fresnel(ior 1.5)) for the dielectric, GGX(base) for the
+                    metal, mixed by metallic (Principled v1 adds its specular
+                    to an unweighted Burley diffuse instead)
 
 Render settings (both forms): Cycles on the CPU, SPP samples, no adaptive
 sampling, no denoising, box pixel filter 1 px wide (Cycles' narrowest
@@ -72,7 +78,7 @@ def fail(msg):
 def parse_args(argv):
     opts = {"out": None, "spp": None, "glb": None, "world": None, "size": None,
             "threads": 0, "seed": 0, "preview": None, "native": False,
-            "lambert": False}
+            "lambert": False, "gltf_brdf": False}
     pos = []
     i = 0
     try:
@@ -99,6 +105,8 @@ def parse_args(argv):
                 opts["native"] = True; i += 1
             elif a == "--lambert":
                 opts["lambert"] = True; i += 1
+            elif a == "--gltf-brdf":
+                opts["gltf_brdf"] = True; i += 1
             elif a in ("-h", "--help"):
                 print(__doc__); sys.exit(0)
             elif a.startswith("--"):
@@ -274,6 +282,61 @@ def lambert_diffuse(log):
             log.append(f"material {mat.name}: Principled (diffuse only) -> Lambert")
 
 
+def gltf_brdf(log):
+    """Opaque Principled BSDFs -> glTF 2.0's Appendix B layering, from
+    Cycles nodes: the dielectric is Lambert(base) and GGX(white) mixed by a
+    Fresnel of index 1.5 (Cycles' dielectric Fresnel at N.V, where glTF's
+    Schlick uses V.H: close for the 4% of index 1.5), the metal a GGX of the
+    base colour, the two mixed by metallic. Roughness is glTF's (Cycles
+    squares it as glTF does)."""
+    for mat in bpy.data.materials:
+        if not mat.node_tree:
+            continue
+        nodes, links = mat.node_tree.nodes, mat.node_tree.links
+        for node in list(nodes):
+            if node.type != 'BSDF_PRINCIPLED':
+                continue
+            inp = node.inputs
+            plain = all(not inp[k].is_linked and inp[k].default_value == 0.0
+                        for k in ("Transmission", "Clearcoat", "Sheen"))
+            if not plain:
+                continue
+
+            def feed(src, dst):
+                if src.is_linked:
+                    links.new(src.links[0].from_socket, dst)
+                else:
+                    dst.default_value = src.default_value
+
+            diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+            diffuse.inputs["Roughness"].default_value = 0.0
+            feed(inp["Base Color"], diffuse.inputs["Color"])
+            spec = nodes.new("ShaderNodeBsdfGlossy")
+            spec.distribution = 'GGX'
+            spec.inputs["Color"].default_value = (1, 1, 1, 1)
+            metal = nodes.new("ShaderNodeBsdfGlossy")
+            metal.distribution = 'GGX'
+            feed(inp["Base Color"], metal.inputs["Color"])
+            for g in (spec, metal):
+                feed(inp["Roughness"], g.inputs["Roughness"])
+            fresnel = nodes.new("ShaderNodeFresnel")
+            fresnel.inputs["IOR"].default_value = 1.5
+            if inp["Normal"].is_linked:
+                for n in (diffuse, spec, metal, fresnel):
+                    links.new(inp["Normal"].links[0].from_socket, n.inputs["Normal"])
+            dielectric = nodes.new("ShaderNodeMixShader")
+            links.new(fresnel.outputs["Fac"], dielectric.inputs["Fac"])
+            links.new(diffuse.outputs["BSDF"], dielectric.inputs[1])
+            links.new(spec.outputs["BSDF"], dielectric.inputs[2])
+            whole = nodes.new("ShaderNodeMixShader")
+            feed(inp["Metallic"], whole.inputs["Fac"])
+            links.new(dielectric.outputs["Shader"], whole.inputs[1])
+            links.new(metal.outputs["BSDF"], whole.inputs[2])
+            for link in list(node.outputs["BSDF"].links):
+                links.new(whole.outputs["Shader"], link.to_socket)
+            log.append(f"material {mat.name}: Principled -> glTF layering (Lambert, GGX, Fresnel 1.5)")
+
+
 def gltf_spots(sc, log):
     """Spot lamp -> point lamp with the glTF cone as a node profile. In a
     lamp's shader, Texture Coordinate > Normal is the direction from the lamp
@@ -398,6 +461,8 @@ def main():
         gltf_absorption(log)
     if opts["lambert"]:
         lambert_diffuse(log)
+    if opts["gltf_brdf"]:
+        gltf_brdf(log)
     for line in log:
         print("render-cycles.py: fix-up: " + line, flush=True)
     os.makedirs(os.path.dirname(opts["out"]), exist_ok=True)

@@ -92,8 +92,8 @@ def test_pbrt_unknown_directive(tmp_path):
     assert "Sphere" in e.message
 
 
-def test_strict_and_env_are_for_pbrt_only():
-    with pytest.raises(ValueError, match="strict and env apply to pbrt-v4 scenes"):
+def test_strict_and_env_are_for_pbrt_and_gltf_only():
+    with pytest.raises(ValueError, match=r"strict and env apply to pbrt-v4 \(.pbrt, .pbrt.gz\) and glTF"):
         lucent.load("scene.toml", strict=True)
 
 
