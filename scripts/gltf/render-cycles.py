@@ -25,8 +25,8 @@ Options:
   --lambert         purely diffuse Principled BSDFs (metallic, specular and
                     transmission 0) become Lambertian Diffuse BSDFs, as glTF's
                     diffuse is (Principled v1's is Burley's)
-  --gltf-brdf       opaque Principled BSDFs (no transmission, no emission
-                    linked, no clearcoat or sheen) become glTF's layering
+  --gltf-brdf       opaque Principled BSDFs (no transmission, emission,
+                    alpha, clearcoat or sheen) become glTF's layering
                     built from Cycles nodes: mix(Lambert(base), GGX(white),
                     Fresnel(ior 1.5)) for the dielectric, GGX(base) for the
                     metal, mixed by metallic (Principled v1 adds its specular
@@ -299,7 +299,11 @@ def gltf_brdf(log):
             inp = node.inputs
             plain = all(not inp[k].is_linked and inp[k].default_value == 0.0
                         for k in ("Transmission", "Clearcoat", "Sheen"))
-            if not plain:
+            # Emission and alpha stay the Principled BSDF's business.
+            emits = inp["Emission"].is_linked or any(v > 0 for v in inp["Emission"].default_value[:3])
+            emits = emits and (inp["Emission Strength"].is_linked or inp["Emission Strength"].default_value > 0)
+            cut = inp["Alpha"].is_linked or inp["Alpha"].default_value < 1.0
+            if not plain or emits or cut:
                 continue
 
             def feed(src, dst):
