@@ -85,11 +85,17 @@ impl Doc {
     }
 
     /// A mesh of one primitive: the unit quad [−1, 1]² in the z = 0 plane,
-    /// facing +z, with uvs; `material` if given.
+    /// facing +z, with uvs (u along +x, v down the image along −y);
+    /// `material` if given.
     fn quad(&mut self, material: Option<usize>) -> usize {
+        self.quad_with_uvs(material, &[0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0])
+    }
+
+    /// The same quad with the given uvs of its four corners.
+    fn quad_with_uvs(&mut self, material: Option<usize>, uvs: &[f32; 8]) -> usize {
         let p = self.floats(&[-1.0, -1.0, 0.0, 1.0, -1.0, 0.0, 1.0, 1.0, 0.0, -1.0, 1.0, 0.0], "VEC3");
         let n = self.floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC3");
-        let uv = self.floats(&[0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0], "VEC2");
+        let uv = self.floats(uvs, "VEC2");
         let i = self.indices(&[0, 1, 2, 0, 2, 3]);
         let mut prim = json!({ "attributes": { "POSITION": p, "NORMAL": n, "TEXCOORD_0": uv }, "indices": i });
         if let Some(m) = material {
@@ -608,4 +614,44 @@ fn textured_materials_convert_to_a_scene_file_that_renders_the_same() {
     assert_eq!(a.pixels(), b.pixels(), "the converted scene renders the same image");
     // The texture shows: the pixels differ.
     assert!(a.pixels().iter().any(|c| *c != a.pixels()[0]));
+}
+
+#[test]
+fn normal_maps_tilt_towards_the_tangent_and_up_the_image() {
+    // glTF's convention (glTF 2.0 §3.9.3): the texel's +X along the
+    // tangent (increasing u), +Y up the image (decreasing v).
+    let dir = tempfile::tempdir().unwrap();
+    // A mirrored layout (v down the image along +y): up the image is −y,
+    // as MikkTSpace's bitangent sign (`TANGENT.w`) says.
+    let mirrored = [0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0];
+    let normal = [0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0];
+    for (rgb, uvs, want) in [
+        ([218u8, 128, 218], normal, Vec3::X),
+        ([128, 218, 218], normal, Vec3::Y),
+        ([218, 128, 218], mirrored, Vec3::X),
+        ([128, 218, 218], mirrored, -Vec3::Y),
+    ] {
+        let mut doc = Doc::new();
+        let v = doc.view(&png(2, 2, |_, _| [rgb[0], rgb[1], rgb[2], 255]));
+        doc.set("images", json!([ { "bufferView": v, "mimeType": "image/png" } ]));
+        doc.set("textures", json!([ { "source": 0 } ]));
+        doc.set("materials", json!([ { "normalTexture": { "index": 0 } } ]));
+        let mesh = doc.quad_with_uvs(Some(0), &uvs);
+        doc.root(json!({ "mesh": mesh }));
+        let loaded = import(&doc.write_glb(dir.path(), "normal"));
+        let hit = loaded.scene.intersect(&down(0.1, 0.2), f32::INFINITY).unwrap();
+        let ctx = lucent::material::MaterialContext {
+            p: hit.p,
+            n: hit.n,
+            ns: hit.ns,
+            uv: hit.uv,
+            dpdu: hit.dpdu,
+            dpdv: hit.dpdv,
+            wo: Vec3::Z,
+        };
+        let Material::Shaded { normal, .. } = &loaded.scene.materials()[0] else { panic!("no normal map") };
+        let ns = normal.apply(&ctx).ns;
+        // 2·218/255 − 1 ≈ 0.71 in x or y and z: tilted 45° towards `want`.
+        assert!(ns.dot(want) > 0.6 && ns.z > 0.6, "{rgb:?} {uvs:?}: {ns:?}");
+    }
 }

@@ -117,7 +117,13 @@ impl NormalPerturbation {
             Self::ScaledNormalMap { map, scale } => {
                 // 2·rgb' − 1 = (s·x, s·y, z) for x, y, z = 2·rgb − 1.
                 let rgb = map.evaluate(&ctx.texture_context());
-                let scaled = Vec3::new(scale * (rgb.x - 0.5) + 0.5, scale * (rgb.y - 0.5) + 0.5, rgb.z);
+                // glTF's bitangent is MikkTSpace's: along ∂p/∂v whatever
+                // the handedness of the texture layout (`TANGENT.w`), where
+                // `normal_map`'s frame (pbrt-v4's) is right-handed; a
+                // mirrored layout flips the map's y.
+                let mirrored = ctx.ns.cross(ctx.dpdu).dot(ctx.dpdv) < 0.0;
+                let y = if mirrored { 1.0 - rgb.y } else { rgb.y };
+                let scaled = Vec3::new(scale * (rgb.x - 0.5) + 0.5, scale * (y - 0.5) + 0.5, rgb.z);
                 normal_map(ctx, scaled)
             }
         }
