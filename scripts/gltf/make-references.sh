@@ -89,31 +89,20 @@ for name in $scenes; do
         out="$outdir/$name.cycles-$mode.exr"
         png="$outdir/$name.cycles-$mode.png"
         case "$mode" in
-            glb)
+            glb | lambert | gltf)
+                # The .glb re-imported; lambert: purely diffuse materials
+                # Lambertian (glTF's diffuse, not Principled v1's Burley);
+                # gltf: opaque Principled BSDFs made glTF's layering from
+                # Cycles nodes (render-cycles.py --lambert, --gltf-brdf).
+                extra=()
+                [ "$mode" = lambert ] && extra=(--lambert)
+                [ "$mode" = gltf ] && extra=(--gltf-brdf)
                 world="$(python3 -c 'import json, sys; print(",".join(map(str, json.load(open(sys.argv[1]))["world"])))' \
                          "$outdir/$name.json")"
-                run "$outdir/logs/$name-glb.log" "$name/glb" \
+                run "$outdir/logs/$name-$mode.log" "$name/$mode" \
                     --python "$here/render-cycles.py" -- "$out" "$spp" \
                     --from-glb "$outdir/$name.glb" --world "$world" --size 320 240 \
-                    --threads "$threads" --preview "$png" ;;
-            lambert)
-                # As glb, with purely diffuse materials Lambertian (glTF's
-                # diffuse) instead of Principled v1's Burley diffuse.
-                world="$(python3 -c 'import json, sys; print(",".join(map(str, json.load(open(sys.argv[1]))["world"])))' \
-                         "$outdir/$name.json")"
-                run "$outdir/logs/$name-lambert.log" "$name/lambert" \
-                    --python "$here/render-cycles.py" -- "$out" "$spp" \
-                    --from-glb "$outdir/$name.glb" --world "$world" --size 320 240 \
-                    --threads "$threads" --preview "$png" --lambert ;;
-            gltf)
-                # As glb, with opaque Principled BSDFs made glTF's layering
-                # from Cycles nodes (render-cycles.py --gltf-brdf).
-                world="$(python3 -c 'import json, sys; print(",".join(map(str, json.load(open(sys.argv[1]))["world"])))' \
-                         "$outdir/$name.json")"
-                run "$outdir/logs/$name-gltf.log" "$name/gltf" \
-                    --python "$here/render-cycles.py" -- "$out" "$spp" \
-                    --from-glb "$outdir/$name.glb" --world "$world" --size 320 240 \
-                    --threads "$threads" --preview "$png" --gltf-brdf ;;
+                    --threads "$threads" --preview "$png" "${extra[@]}" ;;
             blend)
                 run "$outdir/logs/$name-blend.log" "$name/blend" \
                     "$outdir/$name.blend" \
