@@ -252,34 +252,39 @@ def ggx_everywhere(log):
                 node.distribution = 'GGX'
 
 
-def lambert_diffuse(log):
-    """Principled BSDFs that are purely diffuse (metallic, specular and
-    transmission 0, unlinked) -> Cycles' Diffuse BSDF at roughness 0, which
-    is Lambert, as glTF's diffuse is; Principled v1's diffuse is Burley's,
-    brighter at grazing angles."""
+def principled_nodes():
+    """(material, nodes, links, node) for every Principled BSDF of the file."""
     for mat in bpy.data.materials:
         if not mat.node_tree:
             continue
         nodes, links = mat.node_tree.nodes, mat.node_tree.links
         for node in list(nodes):
-            if node.type != 'BSDF_PRINCIPLED':
-                continue
-            zero = all(not node.inputs[k].is_linked and node.inputs[k].default_value == 0.0
-                       for k in ("Metallic", "Specular", "Transmission"))
-            if not zero:
-                continue
-            diffuse = nodes.new("ShaderNodeBsdfDiffuse")
-            diffuse.inputs["Roughness"].default_value = 0.0
-            base = node.inputs["Base Color"]
-            if base.is_linked:
-                links.new(base.links[0].from_socket, diffuse.inputs["Color"])
-            else:
-                diffuse.inputs["Color"].default_value = base.default_value
-            if node.inputs["Normal"].is_linked:
-                links.new(node.inputs["Normal"].links[0].from_socket, diffuse.inputs["Normal"])
-            for link in list(node.outputs["BSDF"].links):
-                links.new(diffuse.outputs["BSDF"], link.to_socket)
-            log.append(f"material {mat.name}: Principled (diffuse only) -> Lambert")
+            if node.type == 'BSDF_PRINCIPLED':
+                yield mat, nodes, links, node
+
+
+def lambert_diffuse(log):
+    """Principled BSDFs that are purely diffuse (metallic, specular and
+    transmission 0, unlinked) -> Cycles' Diffuse BSDF at roughness 0, which
+    is Lambert, as glTF's diffuse is; Principled v1's diffuse is Burley's,
+    brighter at grazing angles."""
+    for mat, nodes, links, node in principled_nodes():
+        zero = all(not node.inputs[k].is_linked and node.inputs[k].default_value == 0.0
+                   for k in ("Metallic", "Specular", "Transmission"))
+        if not zero:
+            continue
+        diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+        diffuse.inputs["Roughness"].default_value = 0.0
+        base = node.inputs["Base Color"]
+        if base.is_linked:
+            links.new(base.links[0].from_socket, diffuse.inputs["Color"])
+        else:
+            diffuse.inputs["Color"].default_value = base.default_value
+        if node.inputs["Normal"].is_linked:
+            links.new(node.inputs["Normal"].links[0].from_socket, diffuse.inputs["Normal"])
+        for link in list(node.outputs["BSDF"].links):
+            links.new(diffuse.outputs["BSDF"], link.to_socket)
+        log.append(f"material {mat.name}: Principled (diffuse only) -> Lambert")
 
 
 def gltf_brdf(log):
@@ -289,56 +294,50 @@ def gltf_brdf(log):
     Schlick uses V.H: close for the 4% of index 1.5), the metal a GGX of the
     base colour, the two mixed by metallic. Roughness is glTF's (Cycles
     squares it as glTF does)."""
-    for mat in bpy.data.materials:
-        if not mat.node_tree:
+    for mat, nodes, links, node in principled_nodes():
+        inp = node.inputs
+        plain = all(not inp[k].is_linked and inp[k].default_value == 0.0
+                    for k in ("Transmission", "Clearcoat", "Sheen"))
+        # Emission and alpha stay the Principled BSDF's business.
+        emits = inp["Emission"].is_linked or any(v > 0 for v in inp["Emission"].default_value[:3])
+        emits = emits and (inp["Emission Strength"].is_linked or inp["Emission Strength"].default_value > 0)
+        cut = inp["Alpha"].is_linked or inp["Alpha"].default_value < 1.0
+        if not plain or emits or cut:
             continue
-        nodes, links = mat.node_tree.nodes, mat.node_tree.links
-        for node in list(nodes):
-            if node.type != 'BSDF_PRINCIPLED':
-                continue
-            inp = node.inputs
-            plain = all(not inp[k].is_linked and inp[k].default_value == 0.0
-                        for k in ("Transmission", "Clearcoat", "Sheen"))
-            # Emission and alpha stay the Principled BSDF's business.
-            emits = inp["Emission"].is_linked or any(v > 0 for v in inp["Emission"].default_value[:3])
-            emits = emits and (inp["Emission Strength"].is_linked or inp["Emission Strength"].default_value > 0)
-            cut = inp["Alpha"].is_linked or inp["Alpha"].default_value < 1.0
-            if not plain or emits or cut:
-                continue
 
-            def feed(src, dst):
-                if src.is_linked:
-                    links.new(src.links[0].from_socket, dst)
-                else:
-                    dst.default_value = src.default_value
+        def feed(src, dst):
+            if src.is_linked:
+                links.new(src.links[0].from_socket, dst)
+            else:
+                dst.default_value = src.default_value
 
-            diffuse = nodes.new("ShaderNodeBsdfDiffuse")
-            diffuse.inputs["Roughness"].default_value = 0.0
-            feed(inp["Base Color"], diffuse.inputs["Color"])
-            spec = nodes.new("ShaderNodeBsdfGlossy")
-            spec.distribution = 'GGX'
-            spec.inputs["Color"].default_value = (1, 1, 1, 1)
-            metal = nodes.new("ShaderNodeBsdfGlossy")
-            metal.distribution = 'GGX'
-            feed(inp["Base Color"], metal.inputs["Color"])
-            for g in (spec, metal):
-                feed(inp["Roughness"], g.inputs["Roughness"])
-            fresnel = nodes.new("ShaderNodeFresnel")
-            fresnel.inputs["IOR"].default_value = 1.5
-            if inp["Normal"].is_linked:
-                for n in (diffuse, spec, metal, fresnel):
-                    links.new(inp["Normal"].links[0].from_socket, n.inputs["Normal"])
-            dielectric = nodes.new("ShaderNodeMixShader")
-            links.new(fresnel.outputs["Fac"], dielectric.inputs["Fac"])
-            links.new(diffuse.outputs["BSDF"], dielectric.inputs[1])
-            links.new(spec.outputs["BSDF"], dielectric.inputs[2])
-            whole = nodes.new("ShaderNodeMixShader")
-            feed(inp["Metallic"], whole.inputs["Fac"])
-            links.new(dielectric.outputs["Shader"], whole.inputs[1])
-            links.new(metal.outputs["BSDF"], whole.inputs[2])
-            for link in list(node.outputs["BSDF"].links):
-                links.new(whole.outputs["Shader"], link.to_socket)
-            log.append(f"material {mat.name}: Principled -> glTF layering (Lambert, GGX, Fresnel 1.5)")
+        diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+        diffuse.inputs["Roughness"].default_value = 0.0
+        feed(inp["Base Color"], diffuse.inputs["Color"])
+        spec = nodes.new("ShaderNodeBsdfGlossy")
+        spec.distribution = 'GGX'
+        spec.inputs["Color"].default_value = (1, 1, 1, 1)
+        metal = nodes.new("ShaderNodeBsdfGlossy")
+        metal.distribution = 'GGX'
+        feed(inp["Base Color"], metal.inputs["Color"])
+        for g in (spec, metal):
+            feed(inp["Roughness"], g.inputs["Roughness"])
+        fresnel = nodes.new("ShaderNodeFresnel")
+        fresnel.inputs["IOR"].default_value = 1.5
+        if inp["Normal"].is_linked:
+            for n in (diffuse, spec, metal, fresnel):
+                links.new(inp["Normal"].links[0].from_socket, n.inputs["Normal"])
+        dielectric = nodes.new("ShaderNodeMixShader")
+        links.new(fresnel.outputs["Fac"], dielectric.inputs["Fac"])
+        links.new(diffuse.outputs["BSDF"], dielectric.inputs[1])
+        links.new(spec.outputs["BSDF"], dielectric.inputs[2])
+        whole = nodes.new("ShaderNodeMixShader")
+        feed(inp["Metallic"], whole.inputs["Fac"])
+        links.new(dielectric.outputs["Shader"], whole.inputs[1])
+        links.new(metal.outputs["BSDF"], whole.inputs[2])
+        for link in list(node.outputs["BSDF"].links):
+            links.new(whole.outputs["Shader"], link.to_socket)
+        log.append(f"material {mat.name}: Principled -> glTF layering (Lambert, GGX, Fresnel 1.5)")
 
 
 def gltf_spots(sc, log):

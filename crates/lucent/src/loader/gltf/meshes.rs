@@ -10,9 +10,10 @@ use gltf::accessor::DataType;
 use gltf::mesh::{Mode, Semantic};
 use std::sync::Arc;
 
-/// Component types of `POSITION` (float, or integers with
-/// `KHR_mesh_quantization`).
-const POSITION_TYPES: &[(DataType, bool)] = &[
+/// Component types of `POSITION` and `TEXCOORD_n` (float, or integers,
+/// plain or normalised, with `KHR_mesh_quantization`; the core
+/// specification's normalised unsigned texture coordinates among them).
+const QUANTIZED_TYPES: &[(DataType, bool)] = &[
     (DataType::F32, false),
     (DataType::I8, false),
     (DataType::I8, true),
@@ -58,7 +59,7 @@ impl Importer<'_> {
         let position =
             primitive.get(&Semantic::Positions).ok_or_else(|| GltfError::new(&what, "has no POSITION attribute"))?;
         let positions: Vec<Vec3> =
-            read_floats::<3>(&position, self.buffers, POSITION_TYPES, &format!("{what}.attributes.POSITION"))?
+            read_floats::<3>(&position, self.buffers, QUANTIZED_TYPES, &format!("{what}.attributes.POSITION"))?
                 .into_iter()
                 .map(Vec3::from)
                 .collect();
@@ -74,18 +75,7 @@ impl Importer<'_> {
         };
         let uvs = match primitive.get(&Semantic::TexCoords(0)) {
             Some(a) => {
-                let types = [
-                    (DataType::F32, false),
-                    (DataType::U8, true),
-                    (DataType::U16, true),
-                    (DataType::I8, false),
-                    (DataType::I8, true),
-                    (DataType::U8, false),
-                    (DataType::I16, false),
-                    (DataType::I16, true),
-                    (DataType::U16, false),
-                ];
-                let v = read_floats::<2>(&a, self.buffers, &types, &format!("{what}.attributes.TEXCOORD_0"))?;
+                let v = read_floats::<2>(&a, self.buffers, QUANTIZED_TYPES, &format!("{what}.attributes.TEXCOORD_0"))?;
                 // lucent's t runs up the image, glTF's v down (see
                 // `materials::mapping`).
                 Some(v.into_iter().map(|[u, v]| Vec2::new(u, 1.0 - v)).collect::<Vec<_>>())
