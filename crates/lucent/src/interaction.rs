@@ -3,6 +3,7 @@
 use crate::geometry::{offset_ray_origin, Ray, Vec2, Vec3};
 use crate::material::MaterialId;
 use crate::medium::MediumInterface;
+use crate::mesh::VertexAttributes;
 
 /// Fraction of a shadow ray's length left unchecked at its far end, so the
 /// surface of an area light could never occlude itself (PBRT's
@@ -24,6 +25,9 @@ pub struct SurfaceInteraction {
     pub ns: Vec3,
     /// Texture coordinates.
     pub uv: Vec2,
+    /// A second uv set and a vertex colour, where the surface is a mesh
+    /// that has them.
+    pub attributes: VertexAttributes,
     /// ∂p/∂u in world space (not normalised): the tangent that orients
     /// anisotropic BSDFs and bump and normal maps.
     pub dpdu: Vec3,

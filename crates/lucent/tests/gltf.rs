@@ -645,6 +645,7 @@ fn normal_maps_tilt_towards_the_tangent_and_up_the_image() {
             n: hit.n,
             ns: hit.ns,
             uv: hit.uv,
+            attributes: hit.attributes,
             dpdu: hit.dpdu,
             dpdv: hit.dpdv,
             wo: Vec3::Z,
@@ -654,4 +655,80 @@ fn normal_maps_tilt_towards_the_tangent_and_up_the_image() {
         // 2·218/255 − 1 ≈ 0.71 in x or y and z: tilted 45° towards `want`.
         assert!(ns.dot(want) > 0.6 && ns.z > 0.6, "{rgb:?} {uvs:?}: {ns:?}");
     }
+}
+
+/// `COLOR_0` (normalised bytes, RGBA), `TEXCOORD_1` and `TANGENT` on the
+/// quad: interpolated at the hit, the vertex colour multiplying the base
+/// colour and its alpha cutting the surface, a texture reading the second
+/// uv set, the tangent orienting `∂p/∂u`; and the scene converted to a
+/// scene file renders the same.
+#[test]
+fn vertex_colours_second_uv_set_and_tangents() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut doc = Doc::new();
+    // Left texel red, right texel green, read without filtering.
+    let v = doc.view(&png(2, 1, |x, _| if x == 0 { [255, 0, 0, 255] } else { [0, 255, 0, 255] }));
+    doc.set("images", json!([ { "bufferView": v, "mimeType": "image/png" } ]));
+    doc.set("samplers", json!([ { "magFilter": 9728, "minFilter": 9728 } ]));
+    doc.set("textures", json!([ { "source": 0, "sampler": 0 } ]));
+    doc.set(
+        "materials",
+        json!([ {
+            "pbrMetallicRoughness": { "baseColorTexture": { "index": 0, "texCoord": 1 } },
+            "alphaMode": "MASK"
+        } ]),
+    );
+    let p = doc.floats(&[-1.0, -1.0, 0.0, 1.0, -1.0, 0.0, 1.0, 1.0, 0.0, -1.0, 1.0, 0.0], "VEC3");
+    let n = doc.floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC3");
+    let uv0 = doc.floats(&[0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0], "VEC2");
+    // The second set runs the other way in u.
+    let uv1 = doc.floats(&[1.0, 1.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0], "VEC2");
+    let t = doc.floats(&[0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0], "VEC4");
+    let colours: [u8; 16] = [255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 0, 255, 255, 255, 255];
+    let cv = doc.view(&colours);
+    let c = doc.push(
+        "accessors",
+        json!({ "bufferView": cv, "componentType": 5121, "normalized": true, "count": 4, "type": "VEC4" }),
+    );
+    let i = doc.indices(&[0, 1, 2, 0, 2, 3]);
+    let attributes =
+        json!({ "POSITION": p, "NORMAL": n, "TEXCOORD_0": uv0, "TEXCOORD_1": uv1, "TANGENT": t, "COLOR_0": c });
+    let mesh =
+        doc.push("meshes", json!({ "primitives": [ { "attributes": attributes, "indices": i, "material": 0 } ] }));
+    doc.root(json!({ "mesh": mesh }));
+    camera_at(&mut doc, 3.0);
+    let glb = doc.write_glb(dir.path(), "attributes");
+    let loaded = import_small(&glb);
+
+    // (0.5, −0.5) has barycentrics (0.25, 0.5, 0.25) in the first triangle.
+    let hit = loaded.scene.intersect(&down(0.5, -0.5), f32::INFINITY).unwrap();
+    let (color, alpha) = (hit.attributes.color, hit.attributes.alpha);
+    assert!(
+        (color - Vec3::new(0.25, 0.5, 0.25)).abs().max_element() < 1e-6 && (alpha - 0.75).abs() < 1e-6,
+        "{color} {alpha}"
+    );
+    assert!((hit.attributes.uv1 - Vec2::new(0.25, 0.25)).abs().max_element() < 1e-6, "{}", hit.attributes.uv1);
+    // The tangent (along +y) is ∂p/∂u; the bitangent w·(n × t) = −x is ∂p/∂v.
+    assert!((hit.dpdu.normalize() - Vec3::Y).length() < 1e-5, "{}", hit.dpdu);
+    assert!((hit.dpdv.normalize() + Vec3::X).length() < 1e-5, "{}", hit.dpdv);
+    // Base colour: the texture through TEXCOORD_1 (red on this side, where
+    // TEXCOORD_0 would read green) times the vertex colour.
+    let Material::MetallicRoughness(mr) = &loaded.scene.materials()[0] else { panic!("not metallic-roughness") };
+    let ctx = lucent::texture::TextureContext::new(hit.p, hit.n, hit.uv).with_attributes(hit.attributes);
+    let base = mr.base_color.as_ref().unwrap().evaluate(&ctx) * mr.base_color_factor;
+    assert!((base - Vec3::new(0.25, 0.0, 0.0)).abs().max_element() < 1e-6, "{base}");
+    // The vertex alpha cuts the surface (MASK at 0.5): 0.1 near the
+    // transparent corner (1, 1), 0.95 near (−1, −1).
+    assert!(loaded.scene.intersect(&down(0.9, 0.8), f32::INFINITY).is_none());
+    assert!(loaded.scene.intersect(&down(-0.5, -0.9), f32::INFINITY).is_some());
+
+    // The scene file keeps all of it (the PLY carries the attributes).
+    let out = dir.path().join("converted.toml");
+    lucent::loader::export_scene(&loaded, &out).unwrap();
+    let again = lucent::loader::load_scene(&out).unwrap_or_else(|e| panic!("{e}"));
+    let settings = RenderSettings { spp: 8, ..loaded.settings.clone() };
+    let options = || RenderOptions { threads: Some(2), ..Default::default() };
+    let a = render(&loaded.scene, &settings, options()).unwrap().film;
+    let b = render(&again.scene, &settings, options()).unwrap().film;
+    assert_eq!(a.pixels(), b.pixels(), "the converted scene renders the same image");
 }

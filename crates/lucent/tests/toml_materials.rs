@@ -389,3 +389,72 @@ fn reverse_orientation_turns_any_object_inside_out() {
     let e = error(&format!("{glass}[[sphere]]\nradius = 1\nmaterial = \"glass\"\ntwo_sided = true\n"));
     assert!(e.contains("`two_sided` applies only with `emission`"), "{e}");
 }
+
+/// A PLY quad with byte vertex colours (sRGB display values) shown by a
+/// `vertex_color` texture through `product`; `vertex_alpha` as a number;
+/// `uv_set = 1` falls back to the first set on a mesh without a second.
+#[test]
+fn vertex_colour_textures_read_the_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("quad.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+         property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n\
+         element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+         -1 -1 0 255 128 0 255\n1 -1 0 255 128 0 255\n1 1 0 255 128 0 51\n-1 1 0 255 128 0 51\n4 0 1 2 3\n",
+    )
+    .unwrap();
+    let text = format!(
+        "{CAMERA}
+[textures.paint.vertex_color]
+[textures.half.constant]
+value = [0.5, 1, 1]
+[textures.tinted.product]
+tex1 = \"paint\"
+tex2 = \"half\"
+[textures.a.vertex_alpha]
+[textures.second.bilerp]
+mapping = {{ affine = {{ m = [1, 0, 0, 0, 1, 0], uv_set = 1 }} }}
+v00 = 0
+v10 = 1
+v01 = 0
+v11 = 1
+[materials.m.coated_diffuse]
+reflectance = \"tinted\"
+roughness = \"a\"
+[materials.s.diffuse]
+color = \"second\"
+[[mesh]]
+file = \"quad.ply\"
+material = \"m\"
+[[sphere]]
+center = [5, 0, 0]
+radius = 1
+material = \"s\"
+"
+    );
+    let path = dir.path().join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    let loaded = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let ray = lucent::geometry::Ray::new(lucent::geometry::Vec3::new(0.2, -0.5, -5.0), lucent::geometry::Vec3::Z);
+    let hit = loaded.scene.intersect(&ray, f32::INFINITY).unwrap();
+    let ctx = TextureContext::new(hit.p, hit.n, hit.uv).with_attributes(hit.attributes);
+    let Material::CoatedDiffuse(m) = loaded.scene.material(hit.material) else { panic!("not coated diffuse") };
+    // Red 255 → 1, halved; green 128 decoded from sRGB.
+    let want = Color::new(0.5, srgb(128), 0.0);
+    assert!((m.reflectance.evaluate(&ctx) - want).abs().max_element() < 1e-6, "{}", m.reflectance.evaluate(&ctx));
+    // Alpha 255 at y = −1, 51 at y = 1: 0.6 at y = −0.5, not sRGB-decoded.
+    // Barycentrics (0.4, 0.35, 0.25) of corners with alpha 1, 1, 0.2.
+    assert!((m.roughness.u.evaluate(&ctx) - 0.8).abs() < 1e-6, "{}", m.roughness.u.evaluate(&ctx));
+    // The sphere has one uv set: `uv_set = 1` reads it (the bilerp is s).
+    let ray = lucent::geometry::Ray::new(lucent::geometry::Vec3::new(5.3, 0.2, -5.0), lucent::geometry::Vec3::Z);
+    let hit = loaded.scene.intersect(&ray, f32::INFINITY).unwrap();
+    let ctx = TextureContext::new(hit.p, hit.n, hit.uv).with_attributes(hit.attributes);
+    let Material::Diffuse { reflectance } = loaded.scene.material(hit.material) else { panic!("not diffuse") };
+    assert!((reflectance.evaluate(&ctx) - Color::splat(hit.uv.x)).abs().max_element() < 1e-6);
+    // Misuse is reported.
+    let e = error("[textures.p.vertex_color]\n[materials.m.conductor]\nroughness = \"p\"\n");
+    assert!(e.contains("`vertex_color`, which is a colour") && e.contains("vertex_alpha"), "{e}");
+    let e = error("[textures.t.bilerp]\nmapping = { affine = { m = [1, 0, 0, 0, 1, 0], uv_set = 2 } }\n");
+    assert!(e.contains("`uv_set` must be 0 or 1"), "{e}");
+}

@@ -51,7 +51,7 @@ impl Integrator for WhittedIntegrator {
             let wo = -ray.dir.normalize();
             // An emissive surface shows its own radiance.
             if let Some(light) = si.light {
-                radiance += throughput * scene.area_lights()[light as usize].emitted(si.p, si.uv, wo);
+                radiance += throughput * scene.area_lights()[light as usize].emitted_at(si.p, si.uv, si.attributes, wo);
             }
             // Resolve the material; an interface is no surface.
             let ctx = material_context(&si, wo);

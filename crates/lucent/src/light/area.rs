@@ -16,6 +16,7 @@
 use super::emitter::{LiSample, LightSampleContext};
 use crate::color::{luminance, Color};
 use crate::geometry::{Ray, Vec2, Vec3};
+use crate::mesh::VertexAttributes;
 use crate::primitive::Primitive;
 use crate::shapes::Shape;
 use crate::texture::{Texture, TextureContext};
@@ -56,8 +57,8 @@ impl EmissionImage {
         Self { texture, surface, mean: sum / (N * N) as f32 }
     }
 
-    fn at(&self, p: Vec3, n: Vec3, uv: Vec2) -> Color {
-        self.texture.evaluate(&TextureContext::new(p, n, uv)).max(Color::ZERO)
+    fn at(&self, p: Vec3, n: Vec3, uv: Vec2, attributes: VertexAttributes) -> Color {
+        self.texture.evaluate(&TextureContext::new(p, n, uv).with_attributes(attributes)).max(Color::ZERO)
     }
 }
 
@@ -105,15 +106,23 @@ impl AreaLight {
     }
 
     /// Radiance leaving the point `p` (texture coordinates `uv`) of the
-    /// light in direction `w`, with the emitting side ([`AreaLight::l`])
+    /// light in direction `w`, on a surface without vertex attributes: see
+    /// [`AreaLight::emitted_at`].
+    #[inline]
+    pub fn emitted(&self, p: Vec3, uv: Vec2, w: Vec3) -> Color {
+        self.emitted_at(p, uv, VertexAttributes::plain(uv), w)
+    }
+
+    /// Radiance leaving the point `p` (texture coordinates `uv`, vertex
+    /// attributes `attributes`) of the light in direction `w`, with the emitting side ([`AreaLight::l`])
     /// decided by the light's own geometry ([`Shape::front_side`]: a
     /// triangle's winding, a sphere's outside), whatever normal the
     /// intersection reported.
     #[inline]
-    pub fn emitted(&self, p: Vec3, uv: Vec2, w: Vec3) -> Color {
+    pub fn emitted_at(&self, p: Vec3, uv: Vec2, attributes: VertexAttributes, w: Vec3) -> Color {
         let l = if self.two_sided { self.radiance } else { self.l(self.shape.front_side(p), w) };
         match &self.image {
-            Some(image) if l != Color::ZERO => l * image.at(p, self.shape.front_side(p), uv),
+            Some(image) if l != Color::ZERO => l * image.at(p, self.shape.front_side(p), uv, attributes),
             _ => l,
         }
     }
@@ -150,7 +159,7 @@ impl AreaLight {
             // The texture coordinates of the sampled point: those of the
             // emitting primitive where the sampled direction meets it.
             let hit = image.surface.intersect(&Ray::new(ctx.p, wi), d * (1.0 + 1e-3))?;
-            l *= image.at(p_light, n_light, hit.uv);
+            l *= image.at(p_light, n_light, hit.uv, hit.attributes);
         }
         if l == Color::ZERO {
             return None;

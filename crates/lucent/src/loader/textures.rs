@@ -38,7 +38,9 @@ pub(super) struct TextureTable<'a> {
 /// The texture names a texture table refers to, with the key naming each.
 fn references(t: &TextureDesc) -> Vec<(&'static str, &str)> {
     let keyed: Vec<(&'static str, Option<&TexValue>)> = match t {
-        TextureDesc::Image(_) | TextureDesc::Checker(_) => Vec::new(),
+        TextureDesc::Image(_) | TextureDesc::Checker(_) | TextureDesc::VertexColor(_) | TextureDesc::VertexAlpha(_) => {
+            Vec::new()
+        }
         TextureDesc::Scale(s) => vec![("tex", s.tex.as_ref()), ("scale", s.scale.as_ref())],
         TextureDesc::Mix(m) => {
             vec![("tex1", m.tex1.as_ref()), ("tex2", m.tex2.as_ref()), ("amount", m.amount.as_ref())]
@@ -50,6 +52,7 @@ fn references(t: &TextureDesc) -> Vec<(&'static str, &str)> {
         }
         TextureDesc::Constant(c) => vec![("value", Some(&c.value))],
         TextureDesc::Step(t) => vec![("texture", Some(&t.texture))],
+        TextureDesc::Product(p) => vec![("tex1", Some(&p.tex1)), ("tex2", Some(&p.tex2))],
     };
     keyed
         .into_iter()
@@ -79,7 +82,13 @@ fn mapping(m: &Option<MappingDesc>) -> Result<TextureMapping, String> {
         Some(MappingDesc::Uv { su, sv, du, dv }) => {
             TextureMapping::uv(f(*su, 1.0), f(*sv, 1.0), f(*du, 0.0), f(*dv, 0.0))
         }
-        Some(MappingDesc::Affine { m }) => TextureMapping::UvAffine { m: m.map(Finite::get) },
+        Some(MappingDesc::Affine { m, uv_set }) => {
+            let set = uv_set.unwrap_or(0);
+            if set > 1 {
+                return Err(format!("`uv_set` must be 0 or 1 (a mesh has at most two uv sets), got {set}"));
+            }
+            TextureMapping::UvAffine { m: m.map(Finite::get), set }
+        }
         Some(MappingDesc::Spherical { transform }) => TextureMapping::spherical(&transform_of(transform)?),
         Some(MappingDesc::Cylindrical { transform }) => TextureMapping::cylindrical(&transform_of(transform)?),
         Some(MappingDesc::Planar { transform, v1, v2, du, dv }) => TextureMapping::planar(
@@ -329,6 +338,16 @@ impl<'a> TextureTable<'a> {
             TextureDesc::Checker(c) => {
                 Texture::Checker { even: c.even.into(), odd: c.odd.into(), scale: c.scale.get() }
             }
+            TextureDesc::VertexColor(_) => Texture::VertexColor,
+            // The alpha as a grey.
+            TextureDesc::VertexAlpha(_) => Texture::Scale {
+                tex: Arc::new(Texture::Constant(Color::ONE)),
+                scale: Arc::new(FloatTexture::VertexAlpha),
+            },
+            TextureDesc::Product(p) => Texture::product(
+                self.color_arc(&Some(p.tex1.clone()), 1.0, &inner("tex1"))?,
+                self.color_arc(&Some(p.tex2.clone()), 1.0, &inner("tex2"))?,
+            ),
         };
         let t = Arc::new(t);
         self.colors.insert(name.to_owned(), Arc::clone(&t));
@@ -396,6 +415,17 @@ impl<'a> TextureTable<'a> {
                     "`{what}` needs a number, but texture \"{name}\" is a `checker`, which has colours"
                 ))
             }
+            TextureDesc::VertexColor(_) => {
+                return Err(format!(
+                    "`{what}` needs a number, but texture \"{name}\" is a `vertex_color`, which is a colour \
+                     (`vertex_alpha` is the vertex colour's alpha)"
+                ))
+            }
+            TextureDesc::VertexAlpha(_) => FloatTexture::VertexAlpha,
+            TextureDesc::Product(p) => FloatTexture::scale(
+                self.float_arc(&Some(p.tex1.clone()), 1.0, &inner("tex1"))?,
+                self.float_arc(&Some(p.tex2.clone()), 1.0, &inner("tex2"))?,
+            ),
         };
         let t = Arc::new(t);
         self.floats.insert(name.to_owned(), Arc::clone(&t));

@@ -28,6 +28,7 @@ use crate::bsdf::{
 };
 use crate::color::Color;
 use crate::geometry::{Vec2, Vec3};
+use crate::mesh::VertexAttributes;
 use crate::sampling::mix_seed;
 use crate::texture::{FloatTexture, Texture, TextureContext};
 use std::f32::consts::FRAC_1_PI;
@@ -343,6 +344,9 @@ pub struct MaterialContext {
     pub ns: Vec3,
     /// Texture coordinates.
     pub uv: Vec2,
+    /// A second uv set and a vertex colour (see
+    /// [`crate::mesh::VertexAttributes`]).
+    pub attributes: VertexAttributes,
     /// ∂p/∂u (not normalised).
     pub dpdu: Vec3,
     /// ∂p/∂v (not normalised).
@@ -353,10 +357,10 @@ pub struct MaterialContext {
 
 impl MaterialContext {
     /// The context textures are evaluated in: position, geometric normal,
-    /// texture coordinates.
+    /// texture coordinates and vertex attributes.
     #[inline]
     pub fn texture_context(&self) -> TextureContext {
-        TextureContext::new(self.p, self.n, self.uv)
+        TextureContext::new(self.p, self.n, self.uv).with_attributes(self.attributes)
     }
 }
 
@@ -749,6 +753,7 @@ mod tests {
             n: Vec3::Y,
             ns: Vec3::Y,
             uv: Vec2::new(0.3, 0.2),
+            attributes: VertexAttributes::plain(Vec2::new(0.3, 0.2)),
             dpdu: Vec3::X,
             dpdv: -Vec3::Z,
             wo: Vec3::new(0.0, 0.8, 0.6),

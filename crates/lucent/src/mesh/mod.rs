@@ -27,6 +27,7 @@
 //! file declares against its length before allocating anything.
 
 use crate::geometry::{Bounds3, Vec2, Vec3};
+use glam::Vec4;
 use std::path::{Path, PathBuf};
 
 pub mod bilinear;
@@ -117,6 +118,51 @@ pub struct TriangleMesh {
     /// ids), one per triangle: both triangles of a split quad carry the
     /// quad's value.
     pub face_indices: Option<Vec<u32>>,
+    /// A second set of per-vertex texture coordinates (glTF's
+    /// `TEXCOORD_1`), one per position, in lucent's orientation like
+    /// `uvs`.
+    pub uvs1: Option<Vec<Vec2>>,
+    /// Per-vertex colours, linear RGB and alpha (glTF's `COLOR_0`, PLY's
+    /// `red`, `green`, `blue`, `alpha`), one per position.
+    pub colors: Option<Vec<Vec4>>,
+    /// Per-vertex tangents (glTF's `TANGENT`, MikkTSpace's): `xyz` along
+    /// increasing `u`, `w = ±1` the handedness, so that the bitangent (the
+    /// direction of increasing `v`) is `w·(n × t)`. One per position.
+    pub tangents: Option<Vec<Vec4>>,
+}
+
+/// What a surface point carries besides its position, normal and first
+/// texture coordinates: the vertex attributes of a mesh, interpolated at
+/// the point, for textures to read. Other shapes have none
+/// ([`VertexAttributes::plain`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VertexAttributes {
+    /// The second texture-coordinate set ([`TriangleMesh::uvs1`]); the
+    /// first set where the surface has no second.
+    pub uv1: Vec2,
+    /// The vertex colour, linear RGB ([`TriangleMesh::colors`]); white
+    /// where the surface has none.
+    pub color: Vec3,
+    /// The vertex colour's alpha; 1 where the surface has none. (Colour and
+    /// alpha are apart, not one `Vec4`, so that the hit records that carry
+    /// them keep 4-byte alignment and their size.)
+    pub alpha: f32,
+}
+
+impl VertexAttributes {
+    /// The attributes of a point with texture coordinates `uv` and no
+    /// vertex data: `uv1 = uv`, opaque white.
+    #[inline]
+    pub const fn plain(uv: Vec2) -> Self {
+        Self { uv1: uv, color: Vec3::ONE, alpha: 1.0 }
+    }
+}
+
+impl Default for VertexAttributes {
+    /// [`VertexAttributes::plain`] at `uv = (0, 0)`.
+    fn default() -> Self {
+        Self::plain(Vec2::ZERO)
+    }
 }
 
 impl TriangleMesh {

@@ -42,6 +42,15 @@
 //!   `s` `t`, `texture_u` `texture_v` or `texture_s` `texture_t` (the names
 //!   pbrt-v4 accepts; the first pair present in that order is used), into
 //!   [`TriangleMesh::uvs`]. A non-finite one is an error.
+//! * Vertex colours: when that element has scalar `red`, `green`, `blue`
+//!   (and optionally `alpha`), into [`TriangleMesh::colors`]. Integer
+//!   values are display colours, as modelling tools and scanners write
+//!   them: divided by the type's maximum (255 for `uchar`) and decoded from
+//!   sRGB (alpha is only divided); float values are linear, as they are
+//!   (lucent writes them so).
+//! * lucent's own extras, written by [`super::write_ply`]: a second uv set
+//!   `u1` `v1` ([`TriangleMesh::uvs1`]) and tangents `tx` `ty` `tz` `tw`
+//!   ([`TriangleMesh::tangents`]).
 //! * Triangles: the first element named `face`, its list property
 //!   `vertex_indices` (or `vertex_index`) with integer count and index types.
 //!   A face `v0 v1 … v(n-1)` becomes the fan `(v0, vi, vi+1)`, `i = 1 … n-2`,
@@ -69,7 +78,9 @@
 //! claims 10¹² vertices fails at once with a clear message.
 
 use super::{normalized_normals, read_file, vec_with_capacity, MeshError, TriangleMesh};
+use crate::color::srgb_decode;
 use crate::geometry::{Vec2, Vec3};
+use glam::Vec4;
 use std::path::Path;
 
 /// Loads a PLY file (ascii, binary little-endian or binary big-endian).
@@ -667,6 +678,9 @@ fn read_body<S: Source>(header: &Header, src: &mut S, path: &Path) -> Result<Tri
         indices: faces.triangles,
         normals,
         uvs: vertices.uvs,
+        uvs1: vertices.uvs1,
+        colors: vertices.colors,
+        tangents: vertices.tangents,
         face_indices: faces.face_indices,
         ..Default::default()
     })
@@ -678,6 +692,9 @@ struct Vertices {
     positions: Vec<Vec3>,
     normals: Option<Vec<Vec3>>,
     uvs: Option<Vec<Vec2>>,
+    uvs1: Option<Vec<Vec2>>,
+    colors: Option<Vec<Vec4>>,
+    tangents: Option<Vec<Vec4>>,
 }
 
 /// What is read of the face element.
@@ -688,9 +705,35 @@ struct Faces {
 }
 
 fn read_vertices<S: Source>(e: &Element, src: &mut S, path: &Path) -> Result<Vertices, MeshError> {
-    // Slots 6..14: the texture coordinate pairs pbrt-v4 accepts, by preference.
-    const NAMES: [&str; 14] =
-        ["x", "y", "z", "nx", "ny", "nz", "u", "v", "s", "t", "texture_u", "texture_v", "texture_s", "texture_t"];
+    // Slots 6..14: the texture coordinate pairs pbrt-v4 accepts, by
+    // preference; 14..18 the colour, 18..20 the second uv set, 20..24 the
+    // tangent.
+    const NAMES: [&str; 24] = [
+        "x",
+        "y",
+        "z",
+        "nx",
+        "ny",
+        "nz",
+        "u",
+        "v",
+        "s",
+        "t",
+        "texture_u",
+        "texture_v",
+        "texture_s",
+        "texture_t",
+        "red",
+        "green",
+        "blue",
+        "alpha",
+        "u1",
+        "v1",
+        "tx",
+        "ty",
+        "tz",
+        "tw",
+    ];
     // Per property: the slot (x, y, z, nx, ny, nz) it is stored in, if any.
     let slots: Vec<Option<(usize, Scalar)>> = e
         .props
@@ -704,12 +747,28 @@ fn read_vertices<S: Source>(e: &Element, src: &mut S, path: &Path) -> Result<Ver
     let has_normals = (3..6).all(has);
     // The first complete pair of texture coordinates.
     let uv_slot = [6, 8, 10, 12].into_iter().find(|&k| has(k) && has(k + 1));
+    let has_colors = (14..17).all(has);
+    let has_uvs1 = (18..20).all(has);
+    let has_tangents = (20..24).all(has);
+    // How each colour channel's stored value becomes a linear one.
+    let mut decode: [fn(f32, f32) -> f32; 4] = [|v, _| v; 4];
+    let mut scale = [1.0f32; 4];
+    for (k, t) in slots.iter().flatten() {
+        if (14..18).contains(k) && !t.is_float() {
+            scale[k - 14] = t.range().1 as f32;
+            decode[k - 14] = if *k == 17 { |v, s| v / s } else { |v, s| srgb_decode(v / s) };
+        }
+    }
     let n = e.count as usize; // at most u32::MAX (checked with the header)
     let mut positions = vec_with_capacity(n, "vertices", path)?;
     let mut normals = if has_normals { Some(vec_with_capacity(n, "normals", path)?) } else { None };
     let mut uvs = if uv_slot.is_some() { Some(vec_with_capacity(n, "texture coordinates", path)?) } else { None };
+    let mut uvs1 = if has_uvs1 { Some(vec_with_capacity(n, "texture coordinates", path)?) } else { None };
+    let mut colors = if has_colors { Some(vec_with_capacity(n, "vertex colours", path)?) } else { None };
+    let mut tangents = if has_tangents { Some(vec_with_capacity(n, "tangents", path)?) } else { None };
     for i in 0..e.count {
-        let mut v = [0.0f32; 14];
+        let mut v = [0.0f32; 24];
+        v[17] = scale[3]; // an absent alpha is opaque
         for (slot, prop) in slots.iter().zip(&e.props) {
             let r = match *slot {
                 Some((k, t)) => src.f32_value(t).map(|x| v[k] = x),
@@ -738,8 +797,27 @@ fn read_vertices<S: Source>(e: &Element, src: &mut S, path: &Path) -> Result<Ver
             }
             uvs.push(uv);
         }
+        let finite = |k: std::ops::Range<usize>, what: &str| {
+            if v[k.clone()].iter().all(|x| x.is_finite()) {
+                Ok(())
+            } else {
+                Err(MeshError::new(path, format!("{}vertex {i} has a non-finite {what} {:?}", src.location(), &v[k])))
+            }
+        };
+        if let Some(colors) = &mut colors {
+            finite(14..18, "colour")?;
+            colors.push(Vec4::from_array(std::array::from_fn(|c| decode[c](v[14 + c], scale[c]))));
+        }
+        if let Some(uvs1) = &mut uvs1 {
+            finite(18..20, "second texture coordinate")?;
+            uvs1.push(Vec2::new(v[18], v[19]));
+        }
+        if let Some(tangents) = &mut tangents {
+            finite(20..24, "tangent")?;
+            tangents.push(Vec4::new(v[20], v[21], v[22], v[23]));
+        }
     }
-    Ok(Vertices { positions, normals, uvs })
+    Ok(Vertices { positions, normals, uvs, uvs1, colors, tangents })
 }
 
 /// The length of a list (the count type is an integer type).
@@ -895,6 +973,35 @@ mod tests {
         assert_eq!(m.normals, Some(vec![Vec3::Z, Vec3::Z, Vec3::new(0.0, 0.6, 0.8)]));
         let bad = text.replace("0 1 0 0 3 4", "0 1 0 0 0 0");
         assert_eq!(parse(&bad).unwrap().normals, None);
+    }
+
+    /// Byte colours are sRGB display values; an absent alpha is opaque.
+    #[test]
+    fn byte_vertex_colours_are_decoded_from_srgb() {
+        let m = parse(
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+             property uchar red\nproperty uchar green\nproperty uchar blue\n\
+             element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+             0 0 0 255 0 0\n1 0 0 0 255 128\n0 1 0 188 188 188\n3 0 1 2\n",
+        )
+        .unwrap();
+        let c = m.colors.unwrap();
+        assert_eq!(c[0], Vec4::new(1.0, 0.0, 0.0, 1.0));
+        assert!((c[1].z - srgb_decode(128.0 / 255.0)).abs() < 1e-7 && c[1].w == 1.0);
+        assert!((c[2].x - 0.502886).abs() < 1e-5, "{}", c[2]);
+        // Float colours are linear, with their alpha.
+        let m = parse(
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+             property float red\nproperty float green\nproperty float blue\nproperty float alpha\n\
+             element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+             0 0 0 0.5 0.25 2 0.5\n1 0 0 0 0 0 0\n0 1 0 1 1 1 1\n3 0 1 2\n",
+        )
+        .unwrap();
+        assert_eq!(m.colors.unwrap()[0], Vec4::new(0.5, 0.25, 2.0, 0.5));
+        let e = err("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n\
+             property float red\nproperty float green\nproperty float blue\n\
+             element face 0\nproperty list uchar int vertex_indices\nend_header\n0 0 0 nan 0 0\n");
+        assert!(e.contains("non-finite colour"), "{e}");
     }
 
     #[test]

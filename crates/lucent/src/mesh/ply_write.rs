@@ -1,6 +1,7 @@
 //! Writing a [`TriangleMesh`] as a binary little-endian PLY file, in the
-//! layout [`super::ply`] reads back exactly: `x y z`, then `nx ny nz` and
-//! `u v` when the mesh has them, per vertex (32-bit floats); per face a
+//! layout [`super::ply`] reads back exactly: `x y z`, then `nx ny nz`,
+//! `u v`, linear `red green blue alpha`, `u1 v1` and `tx ty tz tw` when the
+//! mesh has them, per vertex (32-bit floats); per face a
 //! `uchar` count of 3 and three `int` indices, then `face_indices` when the
 //! mesh has them. Material ids are not written (PLY has no standard for
 //! them).
@@ -37,6 +38,21 @@ pub fn write_ply(mesh: &TriangleMesh, out: &mut impl Write) -> io::Result<()> {
     if uvs.is_some() {
         header += "property float u\nproperty float v\n";
     }
+    let n = mesh.positions.len();
+    let colors = mesh.colors.as_ref().filter(|c| c.len() == n);
+    let uvs1 = mesh.uvs1.as_ref().filter(|uv| uv.len() == n);
+    let tangents = mesh.tangents.as_ref().filter(|t| t.len() == n);
+    for (present, names) in [
+        (colors.is_some(), ["red", "green", "blue", "alpha"].as_slice()),
+        (uvs1.is_some(), &["u1", "v1"]),
+        (tangents.is_some(), &["tx", "ty", "tz", "tw"]),
+    ] {
+        if present {
+            for name in names {
+                header += &format!("property float {name}\n");
+            }
+        }
+    }
     header += &format!("element face {}\n", mesh.indices.len());
     header += "property list uchar int vertex_indices\n";
     let face_indices = mesh.face_indices.as_ref().filter(|f| f.len() == mesh.indices.len());
@@ -56,6 +72,15 @@ pub fn write_ply(mesh: &TriangleMesh, out: &mut impl Write) -> io::Result<()> {
         }
         if let Some(uv) = uvs {
             floats(&uv[i].to_array());
+        }
+        if let Some(c) = colors {
+            floats(&c[i].to_array());
+        }
+        if let Some(uv) = uvs1 {
+            floats(&uv[i].to_array());
+        }
+        if let Some(t) = tangents {
+            floats(&t[i].to_array());
         }
         out.write_all(&vertex)?;
     }
@@ -88,6 +113,9 @@ mod tests {
             normals: Some(vec![Vec3::Z, Vec3::Z, Vec3::X, Vec3::Y]),
             uvs: Some(vec![Vec2::ZERO, Vec2::X, Vec2::new(0.25, 0.75), Vec2::ONE]),
             face_indices: Some(vec![7, 9]),
+            uvs1: Some(vec![Vec2::ONE, Vec2::Y, Vec2::new(-0.5, 2.0), Vec2::ZERO]),
+            colors: Some(vec![glam::Vec4::ONE, glam::Vec4::new(0.2, 0.4, 0.6, 0.5), glam::Vec4::ZERO, glam::Vec4::X]),
+            tangents: Some(vec![glam::Vec4::new(1.0, 0.0, 0.0, -1.0); 4]),
             ..Default::default()
         };
         let mut bytes = Vec::new();
@@ -98,6 +126,9 @@ mod tests {
         assert_eq!(back.normals, mesh.normals);
         assert_eq!(back.uvs, mesh.uvs);
         assert_eq!(back.face_indices, mesh.face_indices);
+        assert_eq!(back.uvs1, mesh.uvs1);
+        assert_eq!(back.colors, mesh.colors);
+        assert_eq!(back.tangents, mesh.tangents);
     }
 
     #[test]
@@ -112,5 +143,6 @@ mod tests {
         let back = super::super::parse_ply(&bytes, Path::new("t.ply")).unwrap();
         assert_eq!(back.indices, vec![[2, 1, 0]]);
         assert!(back.normals.is_none() && back.uvs.is_none() && back.face_indices.is_none());
+        assert!(back.colors.is_none() && back.uvs1.is_none() && back.tangents.is_none());
     }
 }

@@ -268,6 +268,7 @@ impl Primitive {
             n,
             ns,
             uv: hit.uv,
+            attributes: hit.attributes,
             dpdu,
             dpdv,
             material: self.material_at(hit.face),
@@ -303,7 +304,7 @@ impl Primitive {
             None => (h.p, h.n),
             Some(t) => (t.point(h.p), t.normal(h.n).normalize_or_zero()),
         };
-        let a = alpha.evaluate(&TextureContext::new(p, n, h.uv));
+        let a = alpha.evaluate(&TextureContext::new(p, n, h.uv).with_attributes(h.attributes));
         if a >= 1.0 {
             true
         } else if a <= 0.0 || a.is_nan() {

@@ -1,6 +1,7 @@
 use super::placement::Placement;
 use super::{area_to_solid_angle, ShapeError, ShapeHit, ShapeSample};
 use crate::geometry::{gamma, Bounds3, Ray, Transform, Vec2, Vec3};
+use crate::mesh::VertexAttributes;
 use std::f32::consts::PI;
 
 /// pbrt-v4's cylinder (PBRT 4th ed., §6.3): `x² + y² = r²` around the z
@@ -212,6 +213,7 @@ impl Cylinder {
             dpdu: pl.vector_to_world(dpdu),
             dpdv: pl.vector_to_world(dpdv),
             face: 0,
+            attributes: VertexAttributes::plain(uv),
         })
     }
 

@@ -2,6 +2,7 @@ use super::placement::Placement;
 use super::sphere::tangents_or_frame;
 use super::{area_to_solid_angle, ShapeError, ShapeHit, ShapeSample};
 use crate::geometry::{gamma, Bounds3, Ray, Transform, Vec2, Vec3};
+use crate::mesh::VertexAttributes;
 use std::f32::consts::PI;
 
 /// pbrt-v4's disk (PBRT 4th ed., §6.4): the annulus `r_i ≤ √(x² + y²) ≤ r`
@@ -158,6 +159,7 @@ impl Disk {
             dpdu: pl.vector_to_world(dpdu),
             dpdv: pl.vector_to_world(dpdv),
             face: 0,
+            attributes: VertexAttributes::plain(Vec2::new(u, v)),
         })
     }
 

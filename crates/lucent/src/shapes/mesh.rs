@@ -2,7 +2,8 @@ use super::mesh_bvh::MeshBvh;
 use super::triangle::triangle_dpduv;
 use super::{ShapeError, ShapeHit};
 use crate::geometry::{gamma, Bounds3, Ray, Vec2, Vec3};
-use crate::mesh::TriangleMesh;
+use crate::mesh::{TriangleMesh, VertexAttributes};
+use glam::Vec4;
 
 /// How a mesh without per-vertex texture coordinates is parameterised:
 /// each triangle on its own, from corner uvs.
@@ -40,13 +41,20 @@ impl DefaultUv {
 /// of its [`DefaultUv`] (the barycentrics `(b₁, b₂)` unless
 /// [`Mesh::with_default_uv`] says otherwise). `∂p/∂u` and `∂p/∂v` are
 /// those of the triangle's parameterisation (see
-/// [`crate::shapes::triangle_dpduv`]).
+/// [`crate::shapes::triangle_dpduv`]), unless the mesh has per-vertex
+/// tangents: then they point along the interpolated tangent and its
+/// bitangent (MikkTSpace's frame, as glTF's normal maps expect), with the
+/// triangle's lengths. A second uv set and vertex colours are interpolated
+/// into the hit's [`VertexAttributes`].
 #[derive(Debug)]
 pub struct Mesh {
     positions: Vec<Vec3>,
     indices: Vec<[u32; 3]>,
     normals: Option<Vec<Vec3>>,
     uvs: Option<Vec<Vec2>>,
+    uvs1: Option<Vec<Vec2>>,
+    colors: Option<Vec<Vec4>>,
+    tangents: Option<Vec<Vec4>>,
     face_indices: Option<Vec<u32>>,
     material_ids: Option<Vec<u32>>,
     default_uv: DefaultUv,
@@ -71,15 +79,14 @@ impl Mesh {
                 return Err(ShapeError::BadMesh("the mesh has a different number of normals and vertices".into()));
             }
         }
-        if let Some(uvs) = &mesh.uvs {
-            if uvs.len() != n {
-                return Err(ShapeError::BadMesh(format!(
-                    "the mesh has {} texture coordinates for {n} vertices",
-                    uvs.len()
-                )));
+        for (what, uvs) in [("texture coordinates", &mesh.uvs), ("second texture coordinates", &mesh.uvs1)] {
+            if let Some(uvs) = uvs {
+                per_vertex(what, uvs.len(), n, uvs.iter().all(|uv| uv.is_finite()))?;
             }
-            if uvs.iter().any(|uv| !uv.is_finite()) {
-                return Err(ShapeError::BadMesh("a texture coordinate is not a finite number".into()));
+        }
+        for (what, v) in [("vertex colours", &mesh.colors), ("tangents", &mesh.tangents)] {
+            if let Some(v) = v {
+                per_vertex(what, v.len(), n, v.iter().all(|c| c.is_finite()))?;
             }
         }
         if mesh.indices.is_empty() {
@@ -109,6 +116,9 @@ impl Mesh {
             indices: mesh.indices,
             normals,
             uvs: mesh.uvs,
+            uvs1: mesh.uvs1,
+            colors: mesh.colors,
+            tangents: mesh.tangents,
             face_indices: mesh.face_indices,
             material_ids: mesh.material_ids,
             default_uv: DefaultUv::Barycentric,
@@ -131,14 +141,18 @@ impl Mesh {
     }
 
     /// A copy of the mesh's data (positions, indices, normals as stored:
-    /// normalised; uvs, face indices and material ids), e.g. to write it to
-    /// a file. Mesh-file materials are not kept by a `Mesh`.
+    /// normalised; uvs, vertex colours, tangents, face indices and material
+    /// ids), e.g. to write it to a file. Mesh-file materials are not kept
+    /// by a `Mesh`.
     pub fn to_triangle_mesh(&self) -> TriangleMesh {
         TriangleMesh {
             positions: self.positions.clone(),
             indices: self.indices.clone(),
             normals: self.normals.clone(),
             uvs: self.uvs.clone(),
+            uvs1: self.uvs1.clone(),
+            colors: self.colors.clone(),
+            tangents: self.tangents.clone(),
             face_indices: self.face_indices.clone(),
             material_ids: self.material_ids.clone(),
             materials: Vec::new(),
@@ -174,6 +188,16 @@ impl Mesh {
         self.uvs.is_some()
     }
 
+    /// Whether the mesh has a second set of texture coordinates.
+    pub fn has_uvs1(&self) -> bool {
+        self.uvs1.is_some()
+    }
+
+    /// Whether the mesh has vertex colours.
+    pub fn has_colors(&self) -> bool {
+        self.colors.is_some()
+    }
+
     /// The face index of triangle `face` (PLY `face_indices`, for
     /// ptex-style textures), if the mesh has them.
     pub fn face_index(&self, face: u32) -> Option<u32> {
@@ -206,6 +230,9 @@ impl Mesh {
             + self.indices.capacity() * 12
             + self.normals.as_ref().map_or(0, |n| n.capacity() * 12)
             + self.uvs.as_ref().map_or(0, |n| n.capacity() * 8)
+            + self.uvs1.as_ref().map_or(0, |n| n.capacity() * 8)
+            + self.colors.as_ref().map_or(0, |n| n.capacity() * 16)
+            + self.tangents.as_ref().map_or(0, |n| n.capacity() * 16)
             + self.face_indices.as_ref().map_or(0, |m| m.capacity() * 4)
             + self.material_ids.as_ref().map_or(0, |m| m.capacity() * 4)
             + self.bvh.memory_bytes()
@@ -241,8 +268,28 @@ impl Mesh {
             None => self.default_uv.corners(),
         };
         let uv = b0 * uvs[0] + b1 * uvs[1] + b2 * uvs[2];
-        let (dpdu, dpdv) = triangle_dpduv([p0, p1, p2], uvs, n);
-        ShapeHit { t, p, p_error, n, ns, uv, dpdu, dpdv, face }
+        let (mut dpdu, mut dpdv) = triangle_dpduv([p0, p1, p2], uvs, n);
+        if let Some(tangents) = &self.tangents {
+            // glTF 2.0 §3.7.2.1: the bitangent is `w·(n × t)`; the
+            // interpolated tangent is made orthogonal to the shading normal
+            // (it stays as it was where it is degenerate).
+            let tw = b0 * tangents[i0] + b1 * tangents[i1] + b2 * tangents[i2];
+            let t = tw.truncate();
+            if let Some(t) = (t - ns * ns.dot(t)).try_normalize() {
+                let w = if tw.w < 0.0 { -1.0 } else { 1.0 };
+                dpdv = w * ns.cross(t) * dpdv.length();
+                dpdu = t * dpdu.length();
+            }
+        }
+        let mut attributes = VertexAttributes::plain(uv);
+        if let Some(uvs1) = &self.uvs1 {
+            attributes.uv1 = b0 * uvs1[i0] + b1 * uvs1[i1] + b2 * uvs1[i2];
+        }
+        if let Some(colors) = &self.colors {
+            let c = b0 * colors[i0] + b1 * colors[i1] + b2 * colors[i2];
+            (attributes.color, attributes.alpha) = (c.truncate(), c.w);
+        }
+        ShapeHit { t, p, p_error, n, ns, uv, dpdu, dpdv, face, attributes }
     }
 
     /// The nearest hit with `0 < t < t_max`.
@@ -279,6 +326,17 @@ impl Mesh {
     pub fn intersect_p_filtered(&self, ray: &Ray, t_max: f32, accept: &mut dyn FnMut(&ShapeHit) -> bool) -> bool {
         self.bvh.occluded_filtered(ray, 0.0, t_max.next_down(), &mut |h| accept(&self.hit_at(h.t, h.triangle, h.b)))
     }
+}
+
+/// Checks one per-vertex array: `len` entries for `n` vertices, all finite.
+fn per_vertex(what: &str, len: usize, n: usize, finite: bool) -> Result<(), ShapeError> {
+    if len != n {
+        return Err(ShapeError::BadMesh(format!("the mesh has {len} {what} for {n} vertices")));
+    }
+    if !finite {
+        return Err(ShapeError::BadMesh(format!("one of the mesh's {what} is not a finite number")));
+    }
+    Ok(())
 }
 
 /// Meshes compare by identity: two placements of one mesh are equal, two

@@ -39,6 +39,7 @@ pub use triangle::{
 };
 
 use crate::geometry::{Bounds3, Ray, Transform, Vec2, Vec3};
+use crate::mesh::VertexAttributes;
 use std::sync::Arc;
 
 /// Why a shape cannot be built from the given parameters.
@@ -88,6 +89,9 @@ pub struct ShapeHit {
     pub dpdv: Vec3,
     /// Which face of a mesh was hit (0 for other shapes).
     pub face: u32,
+    /// The mesh's other vertex data at the hit (a second uv set, a vertex
+    /// colour); [`VertexAttributes::plain`] for other shapes.
+    pub attributes: VertexAttributes,
 }
 
 /// A point sampled on the surface of a shape.

@@ -1,5 +1,6 @@
 use super::{check_finite, ShapeError, ShapeHit};
 use crate::geometry::{coordinate_system, gamma, Ray, Vec2, Vec3};
+use crate::mesh::VertexAttributes;
 
 /// An infinite plane through a point with a normal.
 ///
@@ -71,6 +72,7 @@ impl Plane {
             dpdu: self.tangent_u,
             dpdv: self.tangent_v,
             face: 0,
+            attributes: VertexAttributes::plain(uv),
         })
     }
 }

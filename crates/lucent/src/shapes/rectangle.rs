@@ -1,6 +1,7 @@
 use super::{area_to_solid_angle, check_finite, ShapeError, ShapeHit, ShapeSample};
 use super::{MAX_SPHERICAL_SAMPLE_AREA, MIN_SPHERICAL_SAMPLE_AREA};
 use crate::geometry::{gamma, Bounds3, Ray, Transform, Vec2, Vec3};
+use crate::mesh::VertexAttributes;
 use crate::sampling::SphericalRectangle;
 
 /// A rectangle: the points `corner + s·ex + t·ey` for `s, t ∈ [0, 1]`, with
@@ -137,7 +138,18 @@ impl Rectangle {
         // rounding, relative to the magnitudes involved (as for planes).
         p -= (p - self.corner).dot(self.n) * self.n;
         let p_error = gamma(5) * (p.abs() + self.corner.abs());
-        Some(ShapeHit { t, p, p_error, n: self.n, ns: self.n, uv, dpdu: self.ex, dpdv: self.ey, face: 0 })
+        Some(ShapeHit {
+            t,
+            p,
+            p_error,
+            n: self.n,
+            ns: self.n,
+            uv,
+            dpdu: self.ex,
+            dpdv: self.ey,
+            face: 0,
+            attributes: VertexAttributes::plain(uv),
+        })
     }
 
     /// A point uniformly distributed by area, with density `1 / area`.

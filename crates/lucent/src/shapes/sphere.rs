@@ -1,6 +1,7 @@
 use super::placement::Placement;
 use super::{area_to_solid_angle, check_finite, ShapeError, ShapeHit, ShapeSample};
 use crate::geometry::{coordinate_system, gamma, Bounds3, Ray, Transform, Vec2, Vec3};
+use crate::mesh::VertexAttributes;
 use crate::sampling::uniform_sphere;
 use std::f32::consts::PI;
 
@@ -386,7 +387,18 @@ impl Sphere {
                 let dpdu = 2.0 * PI * Vec3::new(local.z, 0.0, -local.x);
                 let dpdv = PI * Vec3::new(local.y * cos_phi, -r * sin_theta, -local.y * sin_phi);
                 let (dpdu, dpdv) = tangents_or_frame(dpdu, dpdv, n);
-                Some(ShapeHit { t, p, p_error, n, ns: n, uv: Vec2::new(u, v), dpdu, dpdv, face: 0 })
+                Some(ShapeHit {
+                    t,
+                    p,
+                    p_error,
+                    n,
+                    ns: n,
+                    uv: Vec2::new(u, v),
+                    dpdu,
+                    dpdv,
+                    face: 0,
+                    attributes: VertexAttributes::plain(Vec2::new(u, v)),
+                })
             }
             Some(c) => {
                 let pl = &c.placement;
@@ -427,6 +439,7 @@ impl Sphere {
                     dpdu: pl.vector_to_world(dpdu),
                     dpdv: pl.vector_to_world(dpdv),
                     face: 0,
+                    attributes: VertexAttributes::plain(Vec2::new(u, v)),
                 })
             }
         }

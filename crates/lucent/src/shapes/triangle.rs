@@ -1,6 +1,7 @@
 use super::watertight::{intersect_triangle, WatertightRay};
 use super::{area_to_solid_angle, check_finite, ShapeError, ShapeHit, ShapeSample};
 use crate::geometry::{gamma, Bounds3, Ray, Vec2, Vec3};
+use crate::mesh::VertexAttributes;
 use crate::sampling::{spherical_triangle, uniform_triangle};
 
 /// Triangles subtending less than this solid angle (sr) are sampled by
@@ -221,6 +222,7 @@ impl Triangle {
             dpdu: p1 - p0,
             dpdv: p2 - p0,
             face: 0,
+            attributes: VertexAttributes::plain(Vec2::new(b1, b2)),
         })
     }
 }

@@ -64,6 +64,11 @@ pub enum TextureMapping {
     UvAffine {
         /// The two rows of the 2×3 matrix.
         m: [f32; 6],
+        /// Which texture-coordinate set `(u, v)` is: 0 for the surface's
+        /// own, 1 for a mesh's second set
+        /// ([`crate::mesh::VertexAttributes::uv1`], without screen
+        /// differentials: the finest MIP level is read).
+        set: u8,
     },
     /// Spherical coordinates of the point around the texture-space origin.
     Spherical {
@@ -131,13 +136,20 @@ impl TextureMapping {
                 dtdx: sv * ctx.dvdx,
                 dtdy: sv * ctx.dvdy,
             },
-            Self::UvAffine { m } => TexCoord2D {
-                st: Vec2::new(m[0] * ctx.uv.x + m[1] * ctx.uv.y + m[2], m[3] * ctx.uv.x + m[4] * ctx.uv.y + m[5]),
-                dsdx: m[0] * ctx.dudx + m[1] * ctx.dvdx,
-                dsdy: m[0] * ctx.dudy + m[1] * ctx.dvdy,
-                dtdx: m[3] * ctx.dudx + m[4] * ctx.dvdx,
-                dtdy: m[3] * ctx.dudy + m[4] * ctx.dvdy,
-            },
+            Self::UvAffine { m, set } => {
+                let affine = |uv: Vec2| Vec2::new(m[0] * uv.x + m[1] * uv.y + m[2], m[3] * uv.x + m[4] * uv.y + m[5]);
+                if *set == 0 {
+                    TexCoord2D {
+                        st: affine(ctx.uv),
+                        dsdx: m[0] * ctx.dudx + m[1] * ctx.dvdx,
+                        dsdy: m[0] * ctx.dudy + m[1] * ctx.dvdy,
+                        dtdx: m[3] * ctx.dudx + m[4] * ctx.dvdx,
+                        dtdy: m[3] * ctx.dudy + m[4] * ctx.dvdy,
+                    }
+                } else {
+                    TexCoord2D { st: affine(ctx.attributes.uv1), dsdx: 0.0, dsdy: 0.0, dtdx: 0.0, dtdy: 0.0 }
+                }
+            }
             Self::Spherical { texture_from_world: t } => {
                 let p = t.point(ctx.p);
                 let (dpdx, dpdy) = (t.vector(ctx.dpdx), t.vector(ctx.dpdy));

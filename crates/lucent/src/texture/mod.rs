@@ -14,6 +14,11 @@
 //! | `checkerboard` | [`Texture::checkerboard`], [`Texture::checkerboard_3d`] | `tex1` on even squares, `tex2` on odd ones |
 //! | `bilerp` | [`Texture::bilerp`] | bilinear in `(s, t)` between four corner values |
 //!
+//! Three more are lucent's own, for glTF's materials and meshes with vertex
+//! colours: [`Texture::VertexColor`] and [`FloatTexture::VertexAlpha`] read
+//! the interpolated vertex colour of a mesh ([`VertexAttributes`]), and
+//! [`Texture::product`] multiplies two colour textures channel by channel.
+//!
 //! Nested textures are held by [`Arc`]: a texture named once in a scene file
 //! and used by several textures or materials is stored once. Every
 //! constructor that takes a nested texture accepts a texture or an `Arc` of
@@ -46,6 +51,7 @@ pub use mipmap::{FilterFunction, ImageSource, MipFilterOptions, MipMap, TexelVal
 
 use crate::color::Color;
 use crate::geometry::{Transform, Vec2, Vec3};
+use crate::mesh::VertexAttributes;
 
 /// Where a texture is looked up: the shading point's world-space position
 /// and normal, its surface coordinates, and how these change from one
@@ -63,6 +69,9 @@ pub struct TextureContext {
     pub n: Vec3,
     /// Surface (texture) coordinates.
     pub uv: Vec2,
+    /// A mesh's second uv set and vertex colour
+    /// ([`VertexAttributes::plain`] of `uv` where there are none).
+    pub attributes: VertexAttributes,
     /// ∂p/∂x: change of the position to the next pixel in x.
     pub dpdx: Vec3,
     /// ∂p/∂y.
@@ -81,13 +90,19 @@ impl TextureContext {
     /// A context that knows only surface coordinates (position and normal
     /// zero): enough for textures mapped by `uv`.
     pub fn from_uv(uv: Vec2) -> Self {
-        Self { uv, ..Self::default() }
+        Self { uv, attributes: VertexAttributes::plain(uv), ..Self::default() }
     }
 
     /// A context at world-space point `p` with unit normal `n` and surface
     /// coordinates `uv`, without differentials.
     pub fn new(p: Vec3, n: Vec3, uv: Vec2) -> Self {
-        Self { p, n, uv, ..Self::default() }
+        Self { p, n, uv, attributes: VertexAttributes::plain(uv), ..Self::default() }
+    }
+
+    /// The same context with a mesh's vertex attributes.
+    #[inline]
+    pub fn with_attributes(self, attributes: VertexAttributes) -> Self {
+        Self { attributes, ..self }
     }
 
     /// The same context with pbrt-v4's screen-space differentials (from
@@ -279,9 +294,32 @@ pub enum Texture {
     Checkerboard(Arc<Checkerboard<Texture>>),
     /// pbrt's `bilerp`.
     Bilerp(Arc<Bilerp<Color>>),
+    /// The RGB of the mesh's interpolated vertex colour (glTF's `COLOR_0`,
+    /// PLY's `red`, `green`, `blue`); white on surfaces without one.
+    VertexColor,
+    /// `tex1 × tex2`, channel by channel (glTF's base colour texture times
+    /// the vertex colour).
+    Product {
+        /// The first factor.
+        tex1: Arc<Texture>,
+        /// The second factor.
+        tex2: Arc<Texture>,
+    },
 }
 
 impl Texture {
+    /// `tex1 × tex2`, channel by channel. A constant white factor returns
+    /// the other texture and two constants make a constant.
+    pub fn product(tex1: impl Into<Arc<Texture>>, tex2: impl Into<Arc<Texture>>) -> Self {
+        let (tex1, tex2) = (tex1.into(), tex2.into());
+        match (tex1.as_constant(), tex2.as_constant()) {
+            (Some(a), Some(b)) => Texture::Constant(a * b),
+            (Some(a), None) if a == Color::ONE => (*tex2).clone(),
+            (None, Some(b)) if b == Color::ONE => (*tex1).clone(),
+            _ => Texture::Product { tex1, tex2 },
+        }
+    }
+
     /// pbrt `imagemap`: the colour of an image texture.
     pub fn image(tex: impl Into<Arc<ImageTexture>>) -> Self {
         Texture::Image(tex.into())
@@ -394,6 +432,15 @@ impl Texture {
             }
             Texture::Checkerboard(c) => blend(c.weight(ctx), || c.tex1.evaluate(ctx), || c.tex2.evaluate(ctx)),
             Texture::Bilerp(b) => b.evaluate(ctx),
+            Texture::VertexColor => ctx.attributes.color,
+            Texture::Product { tex1, tex2 } => {
+                let a = tex1.evaluate(ctx);
+                if a == Color::ZERO {
+                    a
+                } else {
+                    a * tex2.evaluate(ctx)
+                }
+            }
         }
     }
 }
@@ -445,6 +492,9 @@ pub enum FloatTexture {
         /// The cut-off.
         threshold: f32,
     },
+    /// The alpha of the mesh's interpolated vertex colour (glTF's
+    /// `COLOR_0.a`, PLY's `alpha`); 1 on surfaces without one.
+    VertexAlpha,
 }
 
 impl FloatTexture {
@@ -555,6 +605,7 @@ impl FloatTexture {
                     0.0
                 }
             }
+            FloatTexture::VertexAlpha => ctx.attributes.alpha,
         }
     }
 }

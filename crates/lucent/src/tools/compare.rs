@@ -87,16 +87,7 @@ pub fn read_image(path: impl AsRef<Path>) -> Result<Film, ImageReadError> {
     Ok(film)
 }
 
-/// The inverse of the sRGB transfer function (IEC 61966-2-1): encoded
-/// `[0, 1]` to linear.
-#[inline]
-pub fn srgb_decode(v: f32) -> f32 {
-    if v <= 0.040_45 {
-        v / 12.92
-    } else {
-        ((v + 0.055) / 1.055).powf(2.4)
-    }
-}
+pub use crate::color::srgb_decode;
 
 /// Two images cannot be compared.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]

@@ -295,7 +295,7 @@ impl PathIntegrator {
         if let Some(index) = si.light {
             let index = index as usize;
             if let Emitter::Area(area) = &lights.emitters()[index] {
-                let le = area.emitted(si.p, si.uv, wo);
+                let le = area.emitted_at(si.p, si.uv, si.attributes, wo);
                 if le.max_element() > 0.0 {
                     let c = if path.depth == 0 || path.specular_bounce {
                         path.beta * le

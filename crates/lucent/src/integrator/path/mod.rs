@@ -112,7 +112,16 @@ pub(crate) const MAX_INTERFACE_SKIPS: u32 = 100;
 /// The material's view of a hit seen from `wo` (unit).
 #[inline]
 pub(super) fn material_context(si: &SurfaceInteraction, wo: Vec3) -> MaterialContext {
-    MaterialContext { p: si.p, n: si.n, ns: si.ns, uv: si.uv, dpdu: si.dpdu, dpdv: si.dpdv, wo }
+    MaterialContext {
+        p: si.p,
+        n: si.n,
+        ns: si.ns,
+        uv: si.uv,
+        attributes: si.attributes,
+        dpdu: si.dpdu,
+        dpdv: si.dpdv,
+        wo,
+    }
 }
 
 /// Whether a scene has materials that may resolve to an interface (an

@@ -187,6 +187,10 @@ pub enum MappingDesc {
     Affine {
         /// The two rows of the 2×3 matrix.
         m: [Finite; 6],
+        /// Which texture-coordinate set `(u, v)` is: 0 (the default) or 1,
+        /// a mesh's second set (glTF's `TEXCOORD_1`).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        uv_set: Option<u8>,
     },
     /// Spherical coordinates about the texture-space origin.
     Spherical {
@@ -359,6 +363,23 @@ pub struct StepTextureDesc {
     pub threshold: Option<Finite>,
 }
 
+/// `[textures.NAME.vertex_color]` or `[textures.NAME.vertex_alpha]`: a
+/// mesh's interpolated vertex colour (its RGB, or its alpha as a number);
+/// white, or 1, on surfaces without one. The table has no keys.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct VertexColorDesc {}
+
+/// `[textures.NAME.product]`: `tex1 × tex2`, channel by channel.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProductTextureDesc {
+    /// The first factor (a number, a colour or a texture's name).
+    pub tex1: TexValue,
+    /// The second factor.
+    pub tex2: TexValue,
+}
+
 /// A texture: `[textures.NAME.KIND]` with one kind.
 #[derive(Clone, Debug, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -381,11 +402,29 @@ pub enum TextureDesc {
     Checker(CheckerDesc),
     /// A threshold (numbers only).
     Step(StepTextureDesc),
+    /// A mesh's vertex colour.
+    VertexColor(VertexColorDesc),
+    /// A mesh's vertex alpha.
+    VertexAlpha(VertexColorDesc),
+    /// A product of two textures.
+    Product(ProductTextureDesc),
 }
 
 /// The kinds of texture, for messages.
-pub(crate) const TEXTURE_KINDS: &[&str] =
-    &["image", "scale", "mix", "direction_mix", "checkerboard", "bilerp", "constant", "checker", "step"];
+pub(crate) const TEXTURE_KINDS: &[&str] = &[
+    "image",
+    "scale",
+    "mix",
+    "direction_mix",
+    "checkerboard",
+    "bilerp",
+    "constant",
+    "checker",
+    "step",
+    "vertex_color",
+    "vertex_alpha",
+    "product",
+];
 
 pub(crate) fn kinds_list(kinds: &[&str]) -> String {
     let quoted: Vec<String> = kinds.iter().map(|k| format!("`{k}`")).collect();
@@ -418,6 +457,9 @@ impl<'de> Deserialize<'de> for TextureDesc {
                     "constant" => TextureDesc::Constant(map.next_value()?),
                     "checker" => TextureDesc::Checker(map.next_value()?),
                     "step" => TextureDesc::Step(map.next_value()?),
+                    "vertex_color" => TextureDesc::VertexColor(map.next_value()?),
+                    "vertex_alpha" => TextureDesc::VertexAlpha(map.next_value()?),
+                    "product" => TextureDesc::Product(map.next_value()?),
                     _ => return Err(A::Error::unknown_variant(&kind, TEXTURE_KINDS)),
                 };
                 if let Some(second) = map.next_key::<String>()? {

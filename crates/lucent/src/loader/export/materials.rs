@@ -97,12 +97,13 @@ fn mapping_desc(m: &TextureMapping) -> Result<Option<MappingDesc>, String> {
                 })
             }
         }
-        TextureMapping::UvAffine { m } => {
+        TextureMapping::UvAffine { m, set } => {
             let mut out = Vec::with_capacity(6);
             for v in m {
                 out.push(finite(*v, "m")?);
             }
-            Some(MappingDesc::Affine { m: out.try_into().expect("six entries") })
+            let uv_set = (*set != 0).then_some(*set);
+            Some(MappingDesc::Affine { m: out.try_into().expect("six entries"), uv_set })
         }
         TextureMapping::Spherical { texture_from_world } => {
             Some(MappingDesc::Spherical { transform: transform_ops(&texture_from_world.inverse()) })
@@ -278,6 +279,7 @@ impl TextureExport {
                 };
                 self.name(TextureDesc::Step(desc), "step")
             }
+            FloatTexture::VertexAlpha => self.name(TextureDesc::VertexAlpha(VertexColorDesc {}), "vertex_alpha"),
         })
     }
 
@@ -331,6 +333,11 @@ impl TextureExport {
                     v11: Some(Self::color_value(b.v11)?),
                 };
                 self.name(TextureDesc::Bilerp(desc), "bilerp")
+            }
+            Texture::VertexColor => self.name(TextureDesc::VertexColor(VertexColorDesc {}), "vertex_color"),
+            Texture::Product { tex1, tex2 } => {
+                let desc = ProductTextureDesc { tex1: self.color(tex1)?, tex2: self.color(tex2)? };
+                self.name(TextureDesc::Product(desc), "product")
             }
         })
     }

@@ -83,13 +83,26 @@ impl TexRef {
     }
 }
 
+impl TexRef {
+    /// The texture-coordinate set the lookup reads: `texCoord`, unless
+    /// `KHR_texture_transform` overrides it.
+    fn set(&self) -> u32 {
+        self.transform.and_then(|t| t.tex_coord).unwrap_or(self.tex_coord)
+    }
+}
+
 /// The texture mapping of `r`: glTF's `v` runs down the image and lucent's
 /// up, so the mesh stores `(u, 1 − v)`; `KHR_texture_transform`'s
 /// `T·R·S` acts on glTF's `(u, v)`, so the mapping conjugates it by that
-/// flip (see [`TextureMapping::UvAffine`]).
+/// flip (see [`TextureMapping::UvAffine`]). Sets after `TEXCOORD_1` read
+/// `TEXCOORD_0` (the importer warns).
 fn mapping(r: &TexRef) -> TextureMapping {
+    let set = u8::from(r.set() == 1);
     let Some(UvTransform { offset, rotation, scale, .. }) = r.transform else {
-        return TextureMapping::default();
+        return match set {
+            0 => TextureMapping::default(),
+            _ => TextureMapping::UvAffine { m: [1.0, 0.0, 0.0, 0.0, 1.0, 0.0], set },
+        };
     };
     // glTF: uv' = (a u + b v + c, d u + e v + f) with T·R·S of the
     // extension (R's columns are (cos, sin) and (−sin, cos)).
@@ -98,7 +111,7 @@ fn mapping(r: &TexRef) -> TextureMapping {
     let (d, e, f) = (s * scale[0], c * scale[1], offset[1]);
     // In lucent's (u, t = 1 − v): s = a u − b t + (b + c),
     // t' = 1 − v' = −d u + e t + (1 − e − f).
-    TextureMapping::UvAffine { m: [a, -b, b + cc, -d, e, 1.0 - e - f] }
+    TextureMapping::UvAffine { m: [a, -b, b + cc, -d, e, 1.0 - e - f], set }
 }
 
 fn wrap(w: gltf::texture::WrappingMode) -> WrapMode {
@@ -127,11 +140,13 @@ impl Importer<'_> {
             .nth(r.index)
             .ok_or_else(|| GltfError::new(what, format!("refers to textures[{}], which does not exist", r.index)))?;
         let image = texture.source().index();
-        let set = r.transform.and_then(|t| t.tex_coord).unwrap_or(r.tex_coord);
-        if set != 0 {
+        let set = r.set();
+        if set > 1 {
             self.warn_once(
                 "texcoord",
-                format!("{what}: texture coordinate set TEXCOORD_{set} is not supported; TEXCOORD_0 is used"),
+                format!(
+                    "{what}: texture coordinate set TEXCOORD_{set} is not supported (only 0 and 1); TEXCOORD_0 is used"
+                ),
             )?;
         }
         let mipmap = self.images.mipmap(doc, image, srgb, self.base, self.buffers)?;
@@ -169,11 +184,17 @@ impl Importer<'_> {
     }
 
     /// glTF material `m` (the default material for `None`: glTF 2.0
-    /// §3.9.6).
-    pub(super) fn material(&mut self, m: Option<gltf::Material>) -> Result<Converted, GltfError> {
+    /// §3.9.6), on a primitive with vertex colours if `vertex_colors`:
+    /// `COLOR_0` multiplies the base colour and its alpha (glTF 2.0
+    /// §3.9.2).
+    pub(super) fn material(&mut self, m: Option<gltf::Material>, vertex_colors: bool) -> Result<Converted, GltfError> {
         let Some(m) = m else {
+            let mut mr = MetallicRoughnessMaterial::default();
+            if vertex_colors {
+                mr.base_color = Some(Texture::VertexColor);
+            }
             return Ok(Converted {
-                material: Material::MetallicRoughness(Box::default()),
+                material: Material::MetallicRoughness(Box::new(mr)),
                 emission: None,
                 alpha: None,
                 double_sided: false,
@@ -183,9 +204,11 @@ impl Importer<'_> {
         let what = format!("materials[{}]", m.index().unwrap_or(0));
         let pbr = m.pbr_metallic_roughness();
         let [r, g, b, a] = pbr.base_color_factor();
+        let base_color = self.color(pbr.base_color_texture().map(|i| TexRef::from_info(&i)), &what)?;
+        let base_color = with_vertex_color(base_color, vertex_colors);
         let mut mr = MetallicRoughnessMaterial {
             base_color_factor: Color::new(r, g, b),
-            base_color: self.color(pbr.base_color_texture().map(|i| TexRef::from_info(&i)), &what)?,
+            base_color: base_color.clone(),
             ..Default::default()
         };
         let mrt = pbr.metallic_roughness_texture().map(|i| TexRef::from_info(&i));
@@ -276,11 +299,7 @@ impl Importer<'_> {
             material = Material::Diffuse { reflectance: Texture::Constant(Color::ZERO) };
         }
         let emission = if emissive.max_element() > 0.0 {
-            let texture = if m.unlit() {
-                self.color(pbr.base_color_texture().map(|i| TexRef::from_info(&i)), &what)?
-            } else {
-                self.color(emissive_texture, &what)?
-            };
+            let texture = if m.unlit() { base_color } else { self.color(emissive_texture, &what)? };
             Some((emissive, texture))
         } else {
             None
@@ -301,6 +320,8 @@ impl Importer<'_> {
                     }
                     None => FloatTexture::Constant(a),
                 };
+                let source =
+                    if vertex_colors { FloatTexture::scale(source, FloatTexture::VertexAlpha) } else { source };
                 Some(match mode {
                     gltf::material::AlphaMode::Mask => {
                         let cutoff = m.alpha_cutoff().unwrap_or(0.5);
@@ -311,6 +332,16 @@ impl Importer<'_> {
             }
         };
         Ok(Converted { material, emission, alpha, double_sided: m.double_sided(), volume })
+    }
+}
+
+/// The base colour texture times the vertex colour, when the primitive
+/// has one.
+fn with_vertex_color(texture: Option<Texture>, vertex_colors: bool) -> Option<Texture> {
+    match (texture, vertex_colors) {
+        (Some(t), true) => Some(Texture::product(t, Texture::VertexColor)),
+        (None, true) => Some(Texture::VertexColor),
+        (t, false) => t,
     }
 }
 

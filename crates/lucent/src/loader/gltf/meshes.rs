@@ -1,12 +1,14 @@
 //! glTF mesh primitives to lucent meshes (glTF 2.0 §3.7.2): triangles,
-//! strips and fans; positions, normals and the first texture coordinates.
+//! strips and fans; positions, normals, tangents, two texture-coordinate
+//! sets and vertex colours.
 
 use super::accessor::{read_floats, read_indices};
 use super::{GltfError, Importer};
 use crate::geometry::{Vec2, Vec3};
 use crate::mesh::TriangleMesh;
 use crate::shapes::Mesh;
-use gltf::accessor::DataType;
+use glam::Vec4;
+use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::{Mode, Semantic};
 use std::sync::Arc;
 
@@ -24,8 +26,11 @@ const QUANTIZED_TYPES: &[(DataType, bool)] = &[
     (DataType::U16, false),
     (DataType::U16, true),
 ];
-/// Of `NORMAL`: float, or normalised signed integers.
+/// Of `NORMAL` and `TANGENT`: float, or normalised signed integers.
 const NORMAL_TYPES: &[(DataType, bool)] = &[(DataType::F32, false), (DataType::I8, true), (DataType::I16, true)];
+/// Of `COLOR_n`: float, or normalised unsigned bytes or shorts (glTF 2.0
+/// §3.7.2.1).
+const COLOR_TYPES: &[(DataType, bool)] = &[(DataType::F32, false), (DataType::U8, true), (DataType::U16, true)];
 
 /// Triangles of `indices` drawn in `mode`, each as three indices; `None`
 /// for points and lines.
@@ -43,6 +48,15 @@ fn triangles(mode: Mode, idx: &[u32]) -> Option<Vec<[u32; 3]>> {
 }
 
 impl Importer<'_> {
+    /// `TEXCOORD_set` of `primitive`, if it has it, flipped to lucent's `v`
+    /// (lucent's `t` runs up the image, glTF's `v` down; see
+    /// `materials::mapping`).
+    fn tex_coords(&self, primitive: &gltf::Primitive, set: u32, what: &str) -> Result<Option<Vec<Vec2>>, GltfError> {
+        let Some(a) = primitive.get(&Semantic::TexCoords(set)) else { return Ok(None) };
+        let v = read_floats::<2>(&a, self.buffers, QUANTIZED_TYPES, &format!("{what}.attributes.TEXCOORD_{set}"))?;
+        Ok(Some(v.into_iter().map(|[u, v]| Vec2::new(u, 1.0 - v)).collect()))
+    }
+
     /// The mesh of `primitive` (of `meshes[mesh]`), or `None` when it has
     /// no triangles to render (points, lines, or none left).
     pub(super) fn primitive_mesh(
@@ -73,16 +87,36 @@ impl Importer<'_> {
             // calculate flat normals" (§3.7.2.1): the geometric normal.
             None => None,
         };
-        let uvs = match primitive.get(&Semantic::TexCoords(0)) {
+        let uvs = self.tex_coords(primitive, 0, &what)?;
+        let uvs1 = self.tex_coords(primitive, 1, &what)?;
+        let colors = match primitive.get(&Semantic::Colors(0)) {
             Some(a) => {
-                let v = read_floats::<2>(&a, self.buffers, QUANTIZED_TYPES, &format!("{what}.attributes.TEXCOORD_0"))?;
-                // lucent's t runs up the image, glTF's v down (see
-                // `materials::mapping`).
-                Some(v.into_iter().map(|[u, v]| Vec2::new(u, 1.0 - v)).collect::<Vec<_>>())
+                let at = format!("{what}.attributes.COLOR_0");
+                // Linear RGB or RGBA (glTF 2.0 §3.7.2.1); RGB is opaque.
+                Some(match a.dimensions() {
+                    Dimensions::Vec3 => read_floats::<3>(&a, self.buffers, COLOR_TYPES, &at)?
+                        .into_iter()
+                        .map(|c| Vec3::from(c).extend(1.0))
+                        .collect::<Vec<_>>(),
+                    _ => read_floats::<4>(&a, self.buffers, COLOR_TYPES, &at)?.into_iter().map(Vec4::from).collect(),
+                })
             }
             None => None,
         };
-        for (name, len) in [("NORMAL", normals.as_ref().map(Vec::len)), ("TEXCOORD_0", uvs.as_ref().map(Vec::len))] {
+        let tangents = match primitive.get(&Semantic::Tangents) {
+            Some(a) => {
+                let v = read_floats::<4>(&a, self.buffers, NORMAL_TYPES, &format!("{what}.attributes.TANGENT"))?;
+                Some(v.into_iter().map(Vec4::from).collect::<Vec<_>>())
+            }
+            None => None,
+        };
+        for (name, len) in [
+            ("NORMAL", normals.as_ref().map(Vec::len)),
+            ("TEXCOORD_0", uvs.as_ref().map(Vec::len)),
+            ("TEXCOORD_1", uvs1.as_ref().map(Vec::len)),
+            ("COLOR_0", colors.as_ref().map(Vec::len)),
+            ("TANGENT", tangents.as_ref().map(Vec::len)),
+        ] {
             if let Some(len) = len {
                 if len != n {
                     return Err(GltfError::new(
@@ -94,8 +128,8 @@ impl Importer<'_> {
         }
         for (semantic, _) in primitive.attributes() {
             let ignored = match semantic {
-                Semantic::Colors(0) => Some("COLOR_0 (vertex colours) is not supported yet: it is ignored"),
-                Semantic::TexCoords(s) if s > 0 => Some("texture coordinate sets after TEXCOORD_0 are ignored"),
+                Semantic::Colors(s) if s > 0 => Some("vertex colour sets after COLOR_0 are ignored"),
+                Semantic::TexCoords(s) if s > 1 => Some("texture coordinate sets after TEXCOORD_1 are ignored"),
                 Semantic::Joints(_) | Semantic::Weights(_) => {
                     Some("skins are not supported: meshes are rendered in their bind pose")
                 }
@@ -126,7 +160,7 @@ impl Importer<'_> {
             self.warn_once("empty primitive", format!("{what}: has no triangles"))?;
             return Ok(None);
         }
-        let tm = TriangleMesh { positions, indices, normals, uvs, ..TriangleMesh::default() };
+        let tm = TriangleMesh { positions, indices, normals, uvs, uvs1, colors, tangents, ..TriangleMesh::default() };
         let mesh = Mesh::new(tm).map_err(|e| GltfError::new(&what, e.to_string()))?;
         Ok(Some(Arc::new(mesh)))
     }

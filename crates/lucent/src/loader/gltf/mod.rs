@@ -101,8 +101,11 @@ pub(super) struct Importer<'a> {
     warned: HashSet<String>,
     warnings: Vec<String>,
     notes: Vec<String>,
-    /// Converted materials by glTF index (`None`: the default material).
-    materials: HashMap<Option<usize>, (MaterialId, materials::Converted)>,
+    /// Converted materials by glTF index (`None`: the default material)
+    /// and whether the primitive has vertex colours (`COLOR_0` multiplies
+    /// the base colour, so a material is converted once with and once
+    /// without).
+    materials: HashMap<(Option<usize>, bool), (MaterialId, materials::Converted)>,
 }
 
 impl Importer<'_> {

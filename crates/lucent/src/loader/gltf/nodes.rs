@@ -157,15 +157,16 @@ impl Importer<'_> {
         material: gltf::Material,
     ) -> Result<bool, GltfError> {
         let key = material.index();
-        let (id, converted) = match self.materials.get(&key) {
+        let vertex_colors = shape.has_colors();
+        let (id, converted) = match self.materials.get(&(key, vertex_colors)) {
             Some(m) => m.clone(),
             None => {
-                let converted = self.material(key.map(|_| material))?;
+                let converted = self.material(key.map(|_| material), vertex_colors)?;
                 let id = self
                     .builder
                     .add_material(converted.material.clone())
                     .map_err(|e| GltfError::new(&format!("materials[{}]", key.unwrap_or(0)), e.to_string()))?;
-                self.materials.insert(key, (id, converted.clone()));
+                self.materials.insert((key, vertex_colors), (id, converted.clone()));
                 (id, converted)
             }
         };
