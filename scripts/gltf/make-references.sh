@@ -39,7 +39,7 @@ spp="${2:-256}"
 case "$spp" in ''|*[!0-9]*|0) echo "error: SPP must be a positive whole number, got '$spp'" >&2; exit 2 ;; esac
 threads="${THREADS:-2}"
 modes="${MODES:-glb blend}"
-scenes="${SCENES:-mr-grid textured transmission volume alpha-mask emissive lights instances}"
+scenes="${SCENES:-mr-grid textured transmission volume alpha-mask emissive lights instances vertex-colors}"
 blender="${BLENDER:-blender}"
 
 if ! command -v "$blender" >/dev/null 2>&1; then

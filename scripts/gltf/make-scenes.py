@@ -15,9 +15,9 @@ For every scene (all of them, or the NAMEs given) this writes, overwriting:
     OUTDIR/textures/*.png the generated textures (also packed / embedded)
 
 Scenes: mr-grid, textured, transmission, volume, alpha-mask, emissive, lights,
-instances. Each is built from an empty factory scene with bpy only, so the
-output depends on nothing but this file and Blender's version (written for
-Blender 3.4, Debian's `blender` package; other versions warn).
+instances, vertex-colors. Each is built from an empty factory scene with bpy
+only, so the output depends on nothing but this file and Blender's version
+(written for Blender 3.4, Debian's `blender` package; other versions warn).
 
 Choices made so that a glTF renderer and Cycles see the same thing:
   * the world is a constant colour (no HDR image, so no orientation question);
@@ -29,6 +29,7 @@ Choices made so that a glTF renderer and Cycles see the same thing:
     Non-Color PNG.
 """
 
+import colorsys
 import json
 import math
 import os
@@ -444,6 +445,49 @@ def scene_lights(sc, outdir):
     return world
 
 
+def scene_vertex_colors(sc, outdir):
+    """A smooth sphere painted by vertex colours (a hue ramp around z,
+    lighter towards the top; glTF's COLOR_0 times a white base colour) over a
+    floor whose checker is looked up through a second UV map (TEXCOORD_1:
+    the first map scaled 3x and turned 30 degrees); a sun and world 0.3."""
+    world = set_world(sc, (1.0, 1.0, 1.0), 0.3)
+    sphere = add_sphere(1.0, (0.0, 0.0, 1.0), name="Painted")
+    mesh = sphere.data
+    # Byte colours on face corners: what the 3.4 exporter writes as COLOR_0.
+    layer = mesh.vertex_colors.new(name="Col")
+    for poly in mesh.polygons:
+        for li in poly.loop_indices:
+            x, y, z = mesh.vertices[mesh.loops[li].vertex_index].co
+            hue = (math.atan2(y, x) / (2.0 * math.pi)) % 1.0
+            r, g, b = colorsys.hsv_to_rgb(hue, 0.8, 0.35 + 0.3 * (z + 1.0))
+            layer.data[li].color = (r, g, b, 1.0)
+    painted = principled("Painted", base=(1.0, 1.0, 1.0), roughness=0.4)
+    nt = painted.node_tree
+    vc = nt.nodes.new("ShaderNodeVertexColor")
+    vc.layer_name = "Col"
+    vc.location = (-400, 300)
+    nt.links.new(vc.outputs["Color"], nt.nodes["Principled BSDF"].inputs["Base Color"])
+    assign(sphere, painted)
+
+    img = save_png(outdir, "checker", checker(), 'sRGB')
+    floor_mat, tex = textured_material("DetailFloor", img)
+    uvmap = floor_mat.node_tree.nodes.new("ShaderNodeUVMap")
+    uvmap.uv_map = "Detail"
+    uvmap.location = (-650, 300)
+    floor_mat.node_tree.links.new(uvmap.outputs["UV"], tex.inputs["Vector"])
+    floor = assign(add_plane(8, name="Floor"), floor_mat)
+    detail = floor.data.uv_layers.new(name="Detail")
+    c, s = math.cos(math.radians(30.0)), math.sin(math.radians(30.0))
+    for first, second in zip(floor.data.uv_layers["UVMap"].data, detail.data):
+        u, v = first.uv
+        second.uv = (3.0 * (c * u - s * v), 3.0 * (s * u + c * v))
+    floor.data.uv_layers.active = floor.data.uv_layers["UVMap"]
+    sun = add_light(sc, "Sun", 'SUN', (0, 0, 5), 3.0)
+    sun.rotation_euler = (math.radians(40), 0.0, math.radians(-30))
+    add_camera(sc, (3.4, -4.6, 3.2), (0.0, 0.0, 0.8), fov_deg=50)
+    return world
+
+
 def scene_instances(sc, outdir):
     """One mesh used by several objects (linked duplicates: obj.data shared)
     inside a nested, rotated and scaled hierarchy; a second mesh twice."""
@@ -492,6 +536,7 @@ SCENES = {
     "emissive": scene_emissive,
     "lights": scene_lights,
     "instances": scene_instances,
+    "vertex-colors": scene_vertex_colors,
 }
 
 

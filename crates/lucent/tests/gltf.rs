@@ -732,3 +732,55 @@ fn vertex_colours_second_uv_set_and_tangents() {
     let b = render(&again.scene, &settings, options()).unwrap().film;
     assert_eq!(a.pixels(), b.pixels(), "the converted scene renders the same image");
 }
+
+/// Renders see the vertex colour: a Lambertian quad (specular 0) painted
+/// (1, 0.5, 0.25) by `COLOR_0` in the default white furnace shows its
+/// albedo, and an unlit one (`KHR_materials_unlit`) emits it; a texture on
+/// `TEXCOORD_1` shows in the render too.
+#[test]
+fn vertex_colours_and_the_second_uv_set_show_in_renders() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut doc = Doc::new();
+    let v = doc.view(&png(2, 1, |x, _| if x == 0 { [255, 255, 255, 255] } else { [0, 0, 0, 255] }));
+    doc.set("images", json!([ { "bufferView": v, "mimeType": "image/png" } ]));
+    doc.set("samplers", json!([ { "magFilter": 9728, "minFilter": 9728 } ]));
+    doc.set("textures", json!([ { "source": 0, "sampler": 0 } ]));
+    doc.set(
+        "materials",
+        json!([
+            { "pbrMetallicRoughness": { "metallicFactor": 0, "roughnessFactor": 1 },
+              "extensions": { "KHR_materials_specular": { "specularFactor": 0 } } },
+            { "extensions": { "KHR_materials_unlit": {} } },
+            { "pbrMetallicRoughness": { "metallicFactor": 0, "roughnessFactor": 1,
+                                        "baseColorTexture": { "index": 0, "texCoord": 1 } },
+              "extensions": { "KHR_materials_specular": { "specularFactor": 0 } } }
+        ]),
+    );
+    doc.set("extensionsUsed", json!(["KHR_materials_specular", "KHR_materials_unlit"]));
+    let p = doc.floats(&[-1.0, -1.0, 0.0, 1.0, -1.0, 0.0, 1.0, 1.0, 0.0, -1.0, 1.0, 0.0], "VEC3");
+    let colours = doc.floats(&[1.0, 0.5, 0.25].repeat(4), "VEC3");
+    // The first set would read the black texel on the right half, the
+    // second reads the white one everywhere.
+    let uv0 = doc.floats(&[0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0], "VEC2");
+    let uv1 = doc.floats(&[0.2; 8], "VEC2");
+    let i = doc.indices(&[0, 1, 2, 0, 2, 3]);
+    let expected = [Vec3::new(1.0, 0.5, 0.25), Vec3::new(1.0, 0.5, 0.25), Vec3::ONE];
+    for (m, want) in expected.into_iter().enumerate() {
+        let attributes = if m < 2 {
+            json!({ "POSITION": p, "COLOR_0": colours })
+        } else {
+            json!({ "POSITION": p, "TEXCOORD_0": uv0, "TEXCOORD_1": uv1 })
+        };
+        let mut doc = Doc { json: doc.json.clone(), bin: doc.bin.clone() };
+        let mesh =
+            doc.push("meshes", json!({ "primitives": [ { "attributes": attributes, "indices": i, "material": m } ] }));
+        doc.root(json!({ "mesh": mesh }));
+        camera_at(&mut doc, 3.0);
+        let loaded = import_small(&doc.write_glb(dir.path(), &format!("painted{m}")));
+        let s = RenderSettings { spp: 256, ..loaded.settings };
+        let out = render(&loaded.scene, &s, RenderOptions { threads: Some(2), ..Default::default() }).unwrap();
+        for c in out.film.pixels() {
+            assert!((*c - want).abs().max_element() < 0.02, "material {m}: {c:?}, want {want:?}");
+        }
+    }
+}

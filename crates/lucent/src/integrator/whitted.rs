@@ -67,7 +67,7 @@ impl Integrator for WhittedIntegrator {
             // Shade the side the ray arrived on: surfaces are two-sided.
             let ng = face_forward(si.n, wo);
             let ns = face_forward(resolved.shading.ns, ng);
-            let bsdf = resolved.material.bsdf(si.uv);
+            let bsdf = resolved.material.bsdf_in(&ctx.texture_context());
 
             let mut l = bsdf.ambient * scene.ambient();
             for light in scene.lights() {

@@ -541,7 +541,7 @@ impl Material {
     #[inline(always)]
     pub fn bsdf_at(&self, ctx: &MaterialContext, materials: &[Material]) -> Option<Bsdf> {
         let r = self.resolve(ctx, materials)?;
-        let tc = TextureContext::new(ctx.p, ctx.n, ctx.uv);
+        let tc = ctx.texture_context();
         Some(Bsdf::new(r.shading.ns, r.shading.dpdu, r.material.bxdf_at(&tc)))
     }
 
@@ -630,7 +630,12 @@ impl Material {
     /// material's model.
     #[inline]
     pub fn bsdf(&self, uv: Vec2) -> PhongBsdf {
-        let ctx = TextureContext::from_uv(uv);
+        self.bsdf_in(&TextureContext::from_uv(uv))
+    }
+
+    /// [`Material::bsdf`] with textures evaluated at `ctx` (position,
+    /// normal, vertex attributes and all).
+    pub fn bsdf_in(&self, ctx: &TextureContext) -> PhongBsdf {
         let matte = |albedo: Color, kr: Color| PhongBsdf {
             ambient: albedo,
             diffuse: albedo * FRAC_1_PI,
@@ -640,7 +645,7 @@ impl Material {
         };
         match self {
             Self::Classic(m) => {
-                let albedo = m.color.evaluate(&ctx);
+                let albedo = m.color.evaluate(ctx);
                 PhongBsdf {
                     ambient: m.ka * albedo,
                     diffuse: m.kd * albedo * FRAC_1_PI,
@@ -649,32 +654,32 @@ impl Material {
                     kr: Color::splat(m.kr),
                 }
             }
-            Self::Diffuse { reflectance } => matte(unit(reflectance.evaluate(&ctx)), Color::ZERO),
-            Self::Conductor { fresnel, .. } => matte(Color::ZERO, conductor_fresnel(fresnel, &ctx, 1.0).eval(1.0)),
+            Self::Diffuse { reflectance } => matte(unit(reflectance.evaluate(ctx)), Color::ZERO),
+            Self::Conductor { fresnel, .. } => matte(Color::ZERO, conductor_fresnel(fresnel, ctx, 1.0).eval(1.0)),
             Self::Dielectric { eta, .. } => matte(Color::ZERO, Color::splat(dielectric_r0(*eta))),
             Self::Plastic { reflectance, eta, .. } => {
-                matte(reflectance.evaluate(&ctx), Color::splat(dielectric_r0(*eta)))
+                matte(reflectance.evaluate(ctx), Color::splat(dielectric_r0(*eta)))
             }
             Self::ThinDielectric { eta } => {
                 let r = dielectric_r0(*eta);
                 matte(Color::ZERO, Color::splat(2.0 * r / (1.0 + r)))
             }
             Self::DiffuseTransmission { reflectance, scale, .. } => {
-                matte(unit(*scale * reflectance.evaluate(&ctx)), Color::ZERO)
+                matte(unit(*scale * reflectance.evaluate(ctx)), Color::ZERO)
             }
-            Self::CoatedDiffuse(c) => matte(unit(c.reflectance.evaluate(&ctx)), Color::splat(dielectric_r0(c.eta))),
+            Self::CoatedDiffuse(c) => matte(unit(c.reflectance.evaluate(ctx)), Color::splat(dielectric_r0(c.eta))),
             Self::CoatedConductor(c) => {
-                matte(Color::ZERO, conductor_fresnel(&c.conductor, &ctx, c.interface_eta.max(1e-3)).eval(1.0))
+                matte(Color::ZERO, conductor_fresnel(&c.conductor, ctx, c.interface_eta.max(1e-3)).eval(1.0))
             }
             Self::MetallicRoughness(m) => {
                 // Diffuse from the dielectric part, a mirror of the metal's
                 // colour (or the dielectric's 4% reflectance).
-                let base = m.base_color.as_ref().map_or(Color::ONE, |t| t.evaluate(&ctx)) * m.base_color_factor;
-                let metallic = m.metallic.evaluate(&ctx).clamp(0.0, 1.0);
+                let base = m.base_color.as_ref().map_or(Color::ONE, |t| t.evaluate(ctx)) * m.base_color_factor;
+                let metallic = m.metallic.evaluate(ctx).clamp(0.0, 1.0);
                 let r0 = Color::splat(dielectric_r0(m.ior));
                 matte(unit(base * (1.0 - metallic)), unit(r0 * (1.0 - metallic) + base * metallic))
             }
-            Self::Shaded { material, .. } => material.bsdf(uv),
+            Self::Shaded { material, .. } => material.bsdf_in(ctx),
             Self::Mix { .. } | Self::Interface => matte(Color::ZERO, Color::ZERO),
         }
     }
