@@ -138,3 +138,32 @@ d.j["extensionsUsed"] = ["KHR_mesh_quantization", "KHR_materials_clearcoat", "KH
                          "KHR_materials_volume"]
 d.j["extensionsRequired"] = ["KHR_mesh_quantization"]
 open(f"{OUT}/hierarchy-extensions.gltf", "wb").write(d.gltf())
+
+# 3. Vertex attributes: COLOR_0 (normalised shorts, RGBA), TEXCOORD_1 read
+#    by a texture, TANGENT under a normal map, an unlit vertex-coloured
+#    copy, as a .glb.
+d = Doc()
+img = d.view(png_rgba(2, 2, lambda x, y: (200 * x, 100, 50 + 100 * y, 255)))
+d.j["images"] = [{"bufferView": img, "mimeType": "image/png"}]
+d.j["textures"] = [{"source": 0}]
+d.j["materials"] = [
+    {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 1}},
+     "normalTexture": {"index": 0}, "alphaMode": "MASK"},
+    {"extensions": {"KHR_materials_unlit": {}}},
+]
+p = d.acc([-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0], "f", 5126, 4, "VEC3", {"min": [-1, -1, 0], "max": [1, 1, 0]})
+n = d.acc([0, 0, 1] * 4, "f", 5126, 4, "VEC3")
+t0 = d.acc([0, 1, 1, 1, 1, 0, 0, 0], "f", 5126, 4, "VEC2")
+t1 = d.acc([1, 1, 0, 1, 0, 0, 1, 0], "f", 5126, 4, "VEC2")
+tan = d.acc([1, 0, 0, -1] * 4, "f", 5126, 4, "VEC4")
+col = d.acc([65535, 0, 0, 65535, 0, 65535, 0, 65535, 0, 0, 65535, 0, 65535, 65535, 65535, 32768],
+            "H", 5123, 4, "VEC4", {"normalized": True})
+col3 = d.acc([1, 0.5, 0.25] * 4, "f", 5126, 4, "VEC3")
+i = d.acc([0, 1, 2, 0, 2, 3], "H", 5123, 6, "SCALAR")
+d.j["meshes"].append({"primitives": [
+    {"attributes": {"POSITION": p, "NORMAL": n, "TEXCOORD_0": t0, "TEXCOORD_1": t1, "TANGENT": tan, "COLOR_0": col},
+     "indices": i, "material": 0},
+    {"attributes": {"POSITION": p, "COLOR_0": col3}, "indices": i, "material": 1}]})
+d.root({"mesh": 0})
+d.j["extensionsUsed"] = ["KHR_materials_unlit"]
+open(f"{OUT}/vertex-attributes.glb", "wb").write(d.glb())
