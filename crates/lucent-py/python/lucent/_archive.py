@@ -219,13 +219,53 @@ def default_cache_dir() -> str:
     return os.path.join(tempfile.gettempdir(), f"lucent-dask-cache-{user}")
 
 
+def _check_manifest(manifest: Any) -> dict:
+    """``manifest`` if it has the shape :func:`build` writes: a ``files`` table of
+    ``{"sha256": hex}`` entries under safe names, the ``scene`` and any ``env``
+    among them, and options of the right types. Anything else, from a damaged
+    or hostile archive, is an :class:`ArchiveError` (never a ``KeyError`` or
+    a path outside the archive)."""
+    if not isinstance(manifest, dict):
+        raise ArchiveError("scene archive has a damaged manifest: it is not a JSON object")
+    if manifest.get("format") != FORMAT:
+        raise ArchiveError(
+            f"scene archive format {manifest.get('format')!r} is not {FORMAT}: "
+            "the workers run another version of lucent"
+        )
+    listed = manifest.get("files")
+    if not isinstance(listed, dict) or not all(
+        isinstance(entry, dict) and isinstance(entry.get("sha256"), str) for entry in listed.values()
+    ):
+        raise ArchiveError("scene archive has a damaged manifest: `files` is not a table of SHA-256 digests")
+    for name in listed:
+        _safe_name(name)
+    scene, env = manifest.get("scene"), manifest.get("env")
+    if not isinstance(scene, str) or scene not in listed:
+        raise ArchiveError("scene archive's manifest names no scene among its files")
+    if env is not None and (not isinstance(env, str) or env not in listed):
+        raise ArchiveError("scene archive's manifest names an environment map that is not among its files")
+    gltf_scene, camera = manifest.get("gltf_scene"), manifest.get("camera")
+    if gltf_scene is not None and (type(gltf_scene) is not int or gltf_scene < 0):
+        raise ArchiveError(f"scene archive's manifest has a bad glTF scene index {gltf_scene!r}")
+    if camera is not None and not isinstance(camera, (str, int)):
+        raise ArchiveError(f"scene archive's manifest has a bad camera {camera!r}")
+    return manifest
+
+
 def _extract(data: bytes, into: str) -> dict:
     """Unpack the archive ``data`` into the empty directory ``into``, checking every
     member against the manifest; returns the manifest."""
     try:
-        tar = tarfile.open(fileobj=io.BytesIO(data), mode="r:")
-    except tarfile.TarError as e:
-        raise ArchiveError(f"not a scene archive: {e}") from e
+        return _extract_members(data, into)
+    except (tarfile.TarError, EOFError) as e:
+        raise ArchiveError(f"not a scene archive, or a damaged one: {e}") from e
+    except OSError as e:
+        # Members that collide on disk (a file and a directory of one name).
+        raise ArchiveError(f"scene archive cannot be unpacked: {e.strerror or e}") from e
+
+
+def _extract_members(data: bytes, into: str) -> dict:
+    tar = tarfile.open(fileobj=io.BytesIO(data), mode="r:")
     with tar:
         members = tar.getmembers()
         for m in members:
@@ -237,21 +277,16 @@ def _extract(data: bytes, into: str) -> dict:
             raise ArchiveError("scene archive has no manifest")
         try:
             manifest = json.loads(tar.extractfile(by_name[MANIFEST]).read().decode("utf-8"))
-        except (ValueError, UnicodeDecodeError) as e:
+        except (ValueError, UnicodeDecodeError, RecursionError) as e:
             raise ArchiveError(f"scene archive has a damaged manifest: {e}") from e
-        if manifest.get("format") != FORMAT:
-            raise ArchiveError(
-                f"scene archive format {manifest.get('format')!r} is not {FORMAT}: "
-                "the workers run another version of lucent"
-            )
-        listed = manifest.get("files") or {}
+        listed = _check_manifest(manifest)["files"]
         stored = {n[len(FILES) + 1 :]: m for n, m in by_name.items() if n.startswith(FILES + "/")}
-        if set(listed) != set(stored) or manifest.get("scene") not in listed:
+        if set(listed) != set(stored):
             raise ArchiveError("scene archive's files do not match its manifest")
         for name, member in sorted(stored.items()):
             rel = _safe_name(name)
             content = tar.extractfile(member).read()
-            if hashlib.sha256(content).hexdigest() != listed[name].get("sha256"):
+            if hashlib.sha256(content).hexdigest() != listed[name]["sha256"]:
                 raise ArchiveError(f"scene archive member {name!r} is damaged (its SHA-256 differs)")
             target = os.path.join(into, FILES, *rel.parts)
             os.makedirs(os.path.dirname(target), exist_ok=True)
@@ -302,14 +337,23 @@ def load(archive: SceneArchive, cache_dir: Optional[str] = None):
     import lucent
 
     files, manifest = unpack(archive.data, archive.sha256, cache_dir)
-    scene_path = os.path.join(files, *PurePosixPath(manifest["scene"]).parts)
+    scene_path, options = load_arguments(files, manifest)
+    return lucent.load(scene_path, **options)
+
+
+def load_arguments(files: str, manifest: dict) -> Tuple[str, Dict[str, Any]]:
+    """The scene file under the unpacked ``files`` tree and the keyword arguments of
+    :func:`lucent.load` that ``manifest`` (checked when it was unpacked) asks for;
+    every path lies inside ``files``."""
+    manifest = _check_manifest(manifest)
+    scene_path = os.path.join(files, *_safe_name(manifest["scene"]).parts)
     options: Dict[str, Any] = {}
     if manifest.get("strict"):
         options["strict"] = True
     if manifest.get("env"):
-        options["env"] = os.path.join(files, *PurePosixPath(manifest["env"]).parts)
+        options["env"] = os.path.join(files, *_safe_name(manifest["env"]).parts)
     if manifest.get("gltf_scene") is not None:
-        options["scene"] = int(manifest["gltf_scene"])
+        options["scene"] = manifest["gltf_scene"]
     if manifest.get("camera") is not None:
         options["camera"] = str(manifest["camera"])
-    return lucent.load(scene_path, **options)
+    return scene_path, options
