@@ -6,7 +6,7 @@
 //! itself) is refused or accepted without a panic. See
 //! docs/reliability.md.
 
-use lucent::tools::readers::Reader;
+use lucent::tools::readers::{remove_scratch, split_files, Reader};
 use std::path::{Path, PathBuf};
 
 fn fuzz_dir() -> PathBuf {
@@ -33,6 +33,7 @@ fn every_reader_accepts_its_seeds() {
             assert!(reader.feed(&data), "{}: the seed {} is refused", reader.name(), seed.display());
         }
     }
+    remove_scratch();
 }
 
 #[test]
@@ -47,6 +48,7 @@ fn inputs_that_once_crashed_a_reader_do_not() {
         }
     }
     assert!(count >= 6, "only {count} regression inputs under fuzz/regressions");
+    remove_scratch();
 }
 
 #[test]
@@ -68,4 +70,21 @@ fn truncated_and_damaged_seeds_are_refused_without_a_panic() {
             }
         }
     }
+    remove_scratch();
+}
+
+/// The files of a `pbrt_files` input: `--- NAME` lines with a plain name
+/// start files; other lines, bad names and files past the eighth are
+/// content.
+#[test]
+fn multi_file_inputs_split_at_name_lines() {
+    let files = split_files(b"Include \"a.pbrt\"\n--- a.pbrt\nShape \"sphere\"\n--- ../x\n--- b.spd\n400 1\n");
+    let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["scene.pbrt", "a.pbrt", "b.spd"]);
+    assert_eq!(files[0].1, b"Include \"a.pbrt\"\n");
+    assert_eq!(files[1].1, b"Shape \"sphere\"\n--- ../x\n");
+    assert_eq!(files[2].1, b"400 1\n");
+    let many: Vec<u8> = (0..20).flat_map(|i| format!("--- f{i}\nx\n").into_bytes()).collect();
+    assert_eq!(split_files(&many).len(), lucent::tools::readers::MAX_FILES);
+    assert!(split_files(b"--- .hidden\n")[0].1.starts_with(b"--- .hidden"));
 }

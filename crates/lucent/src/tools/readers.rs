@@ -12,6 +12,7 @@ use crate::film::{load_checkpoint, AovSet, PartialFilm};
 use crate::loader::pbrt::parse_str;
 use crate::loader::{SceneOverrides, SceneSource};
 use crate::render::{render, RenderOptions};
+use crate::spectrum::SpectrumType;
 use std::path::{Path, PathBuf};
 
 /// A reader under test.
@@ -41,11 +42,21 @@ pub enum Reader {
     /// glTF 2.0 files, `.glb` or `.gltf` by their first bytes, imported and
     /// rendered ([`crate::loader::gltf::import_gltf`]).
     Gltf,
+    /// pbrt-v4 `.spd` spectra ([`crate::spectrum::parse_spd`]), projected to
+    /// RGB as each kind of parameter would be.
+    Spd,
+    /// A pbrt-v4 scene with the files it reads: the input is several files
+    /// in one ([`split_files`]: the scene, then `--- NAME` lines each
+    /// starting another file: includes, `.spd` spectra, PLY meshes,
+    /// images), written to a folder of their own, imported and rendered.
+    /// Structure for the fuzzer: it reaches `Include`, `Import` and every
+    /// file-valued parameter, not only the first file.
+    PbrtFiles,
 }
 
 impl Reader {
     /// Every reader.
-    pub const ALL: [Reader; 11] = [
+    pub const ALL: [Reader; 13] = [
         Reader::Ply,
         Reader::Obj,
         Reader::PbrtParse,
@@ -57,6 +68,8 @@ impl Reader {
         Reader::Lpart,
         Reader::Checkpoint,
         Reader::Gltf,
+        Reader::Spd,
+        Reader::PbrtFiles,
     ];
 
     /// The fuzz target's name (and its folders under `fuzz/`).
@@ -73,6 +86,8 @@ impl Reader {
             Reader::Lpart => "lpart",
             Reader::Checkpoint => "checkpoint",
             Reader::Gltf => "gltf",
+            Reader::Spd => "spd",
+            Reader::PbrtFiles => "pbrt_files",
         }
     }
 
@@ -92,6 +107,26 @@ impl Reader {
             Reader::SceneJson => open_and_render("scene.json", data),
             Reader::Gltf => open_and_render(if data.starts_with(b"glTF") { "scene.glb" } else { "scene.gltf" }, data),
             Reader::Pfm => crate::texture::read_pfm(Path::new("fuzz.pfm"), data).is_ok(),
+            Reader::Spd => {
+                let Ok(text) = std::str::from_utf8(data) else { return false };
+                let Ok(spectrum) = crate::spectrum::parse_spd(text) else { return false };
+                for kind in [SpectrumType::Albedo, SpectrumType::Unbounded, SpectrumType::Illuminant] {
+                    let rgb = spectrum.to_linear_srgb(kind);
+                    assert!(!rgb.is_nan(), "a spectrum that parses projected to a NaN colour: {rgb}");
+                }
+                true
+            }
+            Reader::PbrtFiles => {
+                let files = split_files(data);
+                let dir = scratch_dir("files");
+                // A fresh folder per input: no file of an earlier input is seen.
+                let _ = std::fs::remove_dir_all(&dir);
+                std::fs::create_dir_all(&dir).expect("a scratch folder in the temporary directory");
+                for (name, bytes) in &files {
+                    std::fs::write(dir.join(name), bytes).expect("a scratch file in the temporary directory");
+                }
+                open_and_render_path(&dir.join("scene.pbrt"))
+            }
             Reader::Image => {
                 // Named .tga: TGA, the one format without magic bytes, is
                 // known by its extension; the others by their contents.
@@ -114,11 +149,54 @@ impl Reader {
     }
 }
 
+/// Most files [`split_files`] makes of one input.
+pub const MAX_FILES: usize = 8;
+
+/// The files of a [`Reader::PbrtFiles`] input: up to the first line
+/// `--- NAME` it is `scene.pbrt`; each such line starts the file `NAME`
+/// (letters, digits, `.`, `_` and `-`, not starting with `.`; a line with
+/// another name is content), up to [`MAX_FILES`] files. Later files of one
+/// name replace earlier ones.
+pub fn split_files(data: &[u8]) -> Vec<(String, Vec<u8>)> {
+    let mut files: Vec<(String, Vec<u8>)> = vec![("scene.pbrt".to_owned(), Vec::new())];
+    for line in data.split_inclusive(|&b| b == b'\n') {
+        let name = line
+            .strip_prefix(b"--- ")
+            .map(|n| n.strip_suffix(b"\n").unwrap_or(n))
+            .and_then(|n| std::str::from_utf8(n).ok())
+            .filter(|n| {
+                !n.is_empty()
+                    && !n.starts_with('.')
+                    && n.len() <= 64
+                    && n.bytes().all(|b| b.is_ascii_alphanumeric() || b"._-".contains(&b))
+            });
+        match name {
+            Some(n) if files.len() < MAX_FILES => files.push((n.to_owned(), Vec::new())),
+            _ => files.last_mut().expect("the scene file").1.extend_from_slice(line),
+        }
+    }
+    files
+}
+
+/// A folder of this process and thread named `lucent-readers-…-NAME` in
+/// the temporary directory, made if missing.
+fn scratch_dir(name: &str) -> PathBuf {
+    let thread = format!("{:?}", std::thread::current().id()).replace(|c: char| !c.is_ascii_alphanumeric(), "");
+    std::env::temp_dir().join(format!("lucent-readers-{}-{thread}-{name}", std::process::id()))
+}
+
+/// Remove the scratch folders this thread's readers wrote (the fuzzers
+/// keep theirs for the process's life; tests call this when done).
+pub fn remove_scratch() {
+    for name in ["one", "files"] {
+        let _ = std::fs::remove_dir_all(scratch_dir(name));
+    }
+}
+
 /// Write `data` to a file of this process and thread (readers that take a
 /// path: an include or a texture then resolves next to it).
 fn scratch_file(name: &str, data: &[u8]) -> PathBuf {
-    let thread = format!("{:?}", std::thread::current().id()).replace(|c: char| !c.is_ascii_alphanumeric(), "");
-    let dir = std::env::temp_dir().join(format!("lucent-readers-{}-{thread}", std::process::id()));
+    let dir = scratch_dir("one");
     std::fs::create_dir_all(&dir).expect("a scratch folder in the temporary directory");
     let path = dir.join(name);
     std::fs::write(&path, data).expect("a scratch file in the temporary directory");
@@ -128,7 +206,12 @@ fn scratch_file(name: &str, data: &[u8]) -> PathBuf {
 /// Open a scene file as the command line does (with a small image), and
 /// if it loads, render it and check its pixels.
 fn open_and_render(name: &str, data: &[u8]) -> bool {
-    let path = scratch_file(name, data);
+    open_and_render_path(&scratch_file(name, data))
+}
+
+/// [`open_and_render`] of a file already written.
+fn open_and_render_path(path: &Path) -> bool {
+    let path = path.to_owned();
     let overrides =
         SceneOverrides { width: Some(8), height: Some(8), spp: Some(1), max_depth: Some(8), ..Default::default() };
     let Ok(source) = SceneSource::open(&path, &overrides) else { return false };
