@@ -12,7 +12,7 @@ seconds=${1:?usage: fuzz/run.sh SECONDS [TARGET...]}
 shift
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-    targets=(ply obj pbrt_parse pbrt_import scene_toml scene_json pfm image lpart checkpoint gltf spd pbrt_files)
+    targets=(ply obj pbrt_parse pbrt_import scene_toml scene_json pfm image lpart checkpoint gltf spd pbrt_files lpart_body)
 fi
 cargo +nightly fuzz build -O
 mkdir -p logs

@@ -18,6 +18,7 @@ pub use aov::{Aov, AovSample, AovSet, UnknownAov};
 pub use checkpoint::{load_checkpoint, save_checkpoint, CheckpointError};
 pub use filter::{Filter, Filter1d, FilterError, FilterSample, FilterSampler, TABLE_SEGMENTS};
 pub use output::{ImageFormat, Layers, OutputError, PendingImage};
+pub(crate) use partial::fnv1a;
 pub use partial::{show_ranges, PartialError, PartialFilm};
 pub use sensor::{
     film_response, imaging_ratio, pbrt_film_scale, validate_film_response, white_balance_matrix, white_balance_scale,

@@ -416,7 +416,7 @@ fn tone_map_from_code(c: u32) -> Option<ToneMap> {
 }
 
 /// 64-bit FNV-1a (Fowler, Noll and Vo), as the checksum of the file.
-fn fnv1a(bytes: &[u8]) -> u64 {
+pub(crate) fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
 }
 

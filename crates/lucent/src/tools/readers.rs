@@ -37,6 +37,10 @@ pub enum Reader {
     Image,
     /// lucent's partial renders, `.lpart` ([`PartialFilm::from_bytes`]).
     Lpart,
+    /// `.lpart` files less their checksum, which the reader appends
+    /// (FNV-1a of the rest) before reading: structure for the fuzzer, whose
+    /// mutations would otherwise nearly all stop at the checksum.
+    LpartBody,
     /// lucent's checkpoints, `.ckpt` ([`load_checkpoint`]).
     Checkpoint,
     /// glTF 2.0 files, `.glb` or `.gltf` by their first bytes, imported and
@@ -56,7 +60,7 @@ pub enum Reader {
 
 impl Reader {
     /// Every reader.
-    pub const ALL: [Reader; 13] = [
+    pub const ALL: [Reader; 14] = [
         Reader::Ply,
         Reader::Obj,
         Reader::PbrtParse,
@@ -66,6 +70,7 @@ impl Reader {
         Reader::Pfm,
         Reader::Image,
         Reader::Lpart,
+        Reader::LpartBody,
         Reader::Checkpoint,
         Reader::Gltf,
         Reader::Spd,
@@ -84,6 +89,7 @@ impl Reader {
             Reader::Pfm => "pfm",
             Reader::Image => "image",
             Reader::Lpart => "lpart",
+            Reader::LpartBody => "lpart_body",
             Reader::Checkpoint => "checkpoint",
             Reader::Gltf => "gltf",
             Reader::Spd => "spd",
@@ -134,6 +140,11 @@ impl Reader {
                 crate::texture::read_image(&path, crate::texture::ColorEncoding::Srgb).is_ok()
             }
             Reader::Lpart => PartialFilm::from_bytes(data, "fuzz.lpart").is_ok(),
+            Reader::LpartBody => {
+                let mut file = data.to_vec();
+                file.extend_from_slice(&crate::film::fnv1a(data).to_le_bytes());
+                PartialFilm::from_bytes(&file, "fuzz.lpart").is_ok()
+            }
             Reader::Checkpoint => {
                 let path = scratch_file("render.ckpt", data);
                 // The fingerprint and size of the render asking for it:
