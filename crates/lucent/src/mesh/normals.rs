@@ -137,6 +137,63 @@ impl TriangleMesh {
         }
         Ok(())
     }
+
+    /// Sets [`tangents`](Self::tangents) from the texture coordinates, for
+    /// normal maps on a mesh whose file has no tangents (glTF asks for
+    /// MikkTSpace's; this is the per-vertex average those reduce to on a
+    /// mesh already split at its uv seams, Lengyel 2001, "Computing
+    /// tangent space basis vectors for an arbitrary mesh"): each triangle
+    /// adds its ∂p/∂u and ∂p/∂v (solved from its corners' positions and
+    /// uvs, area-weighted) to its vertices; a vertex's tangent is the sum
+    /// of ∂p/∂u made orthogonal to its normal, and `w = ±1` says whether
+    /// `n × t` runs along the summed ∂p/∂v or against it (the bitangent
+    /// is `w·(n × t)`).
+    ///
+    /// Needs normals and uvs: without either it leaves the mesh as it is.
+    /// Triangles without area in uv are skipped; a vertex that only such
+    /// triangles use gets any tangent perpendicular to its normal.
+    pub fn compute_tangents(&mut self) {
+        let (Some(normals), Some(uvs)) = (&self.normals, &self.uvs) else { return };
+        let n = self.positions.len();
+        let (mut su, mut sv) = (vec![[0.0f64; 3]; n], vec![[0.0f64; 3]; n]);
+        for t in &self.indices {
+            let [i0, i1, i2] = t.map(|i| i as usize);
+            let (e1, e2) = (sub(self.positions[i1], self.positions[i0]), sub(self.positions[i2], self.positions[i0]));
+            let (du1, dv1) = (uvs[i1].x as f64 - uvs[i0].x as f64, uvs[i1].y as f64 - uvs[i0].y as f64);
+            let (du2, dv2) = (uvs[i2].x as f64 - uvs[i0].x as f64, uvs[i2].y as f64 - uvs[i0].y as f64);
+            // e1 = du1·∂p/∂u + dv1·∂p/∂v, e2 likewise; the determinant is
+            // the triangle's signed area in uv (times 2). Multiplying the
+            // solution by |det| instead of dividing by det weights each
+            // triangle by its area in uv.
+            let det = du1 * dv2 - du2 * dv1;
+            if det == 0.0 || !det.is_finite() {
+                continue;
+            }
+            let sign = det.signum();
+            let dpdu: [f64; 3] = std::array::from_fn(|k| sign * (dv2 * e1[k] - dv1 * e2[k]));
+            let dpdv: [f64; 3] = std::array::from_fn(|k| sign * (du1 * e2[k] - du2 * e1[k]));
+            for v in [i0, i1, i2] {
+                for k in 0..3 {
+                    su[v][k] += dpdu[k];
+                    sv[v][k] += dpdv[k];
+                }
+            }
+        }
+        let tangents = (0..n)
+            .map(|v| {
+                let nv = normals[v];
+                let u = Vec3::new(su[v][0] as f32, su[v][1] as f32, su[v][2] as f32);
+                let t = (u - nv * nv.dot(u))
+                    .try_normalize()
+                    .or_else(|| nv.try_normalize().map(|z| crate::geometry::Frame::from_z(z).x))
+                    .unwrap_or(Vec3::X);
+                let b = Vec3::new(sv[v][0] as f32, sv[v][1] as f32, sv[v][2] as f32);
+                let w = if nv.cross(t).dot(b) < 0.0 { -1.0 } else { 1.0 };
+                t.extend(w)
+            })
+            .collect();
+        self.tangents = Some(tangents);
+    }
 }
 
 #[cfg(test)]
@@ -154,6 +211,53 @@ mod tests {
 
     fn close(a: Vec3, b: Vec3) -> bool {
         (a - b).length() < 1e-6
+    }
+
+    /// A quad in z = 0 with u along +x and v along +y: tangent +x, w = +1;
+    /// with v mirrored, w = −1; on a cylinder-like fold the tangents of the
+    /// shared vertices are the average, still unit and normal to n.
+    #[test]
+    fn tangents_follow_the_uv_layout() {
+        let mut m =
+            mesh(&[[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0], [0.0, 1.0, 0.0]], &[[0, 1, 2], [0, 2, 3]]);
+        m.normals = Some(vec![Vec3::Z; 4]);
+        m.uvs = Some(vec![
+            crate::geometry::Vec2::new(0.0, 0.0),
+            crate::geometry::Vec2::new(1.0, 0.0),
+            crate::geometry::Vec2::new(1.0, 1.0),
+            crate::geometry::Vec2::new(0.0, 1.0),
+        ]);
+        m.compute_tangents();
+        for t in m.tangents.as_ref().unwrap() {
+            assert!(close(t.truncate(), Vec3::X) && t.w == 1.0, "{t}");
+        }
+        // v runs down the quad: the bitangent n × t = +y is against ∂p/∂v.
+        for uv in m.uvs.as_mut().unwrap() {
+            uv.y = 1.0 - uv.y;
+        }
+        m.compute_tangents();
+        for t in m.tangents.as_ref().unwrap() {
+            assert!(close(t.truncate(), Vec3::X) && t.w == -1.0, "{t}");
+        }
+        // A fold: two quads at 90° sharing the edge x = 0, u running
+        // across both; the shared vertices' tangent bisects the two.
+        let mut f = mesh(
+            &[[0.0, 0.0, 1.0], [0.0, 1.0, 1.0], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]],
+            &[[0, 2, 3], [0, 3, 1], [2, 4, 5], [2, 5, 3]],
+        );
+        let uv = |u: f32, v: f32| crate::geometry::Vec2::new(u, v);
+        f.uvs = Some(vec![uv(0.0, 0.0), uv(0.0, 1.0), uv(1.0, 0.0), uv(1.0, 1.0), uv(2.0, 0.0), uv(2.0, 1.0)]);
+        f.compute_smooth_normals();
+        f.compute_tangents();
+        let ns = f.normals.clone().unwrap();
+        for (t, n) in f.tangents.unwrap().iter().zip(ns) {
+            assert!((t.truncate().length() - 1.0).abs() < 1e-5 && t.truncate().dot(n).abs() < 1e-5, "{t} {n}");
+        }
+        // Without uvs nothing is made.
+        let mut bare = mesh(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], &[[0, 1, 2]]);
+        bare.compute_smooth_normals();
+        bare.compute_tangents();
+        assert!(bare.tangents.is_none());
     }
 
     #[test]

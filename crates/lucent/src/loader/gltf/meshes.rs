@@ -160,7 +160,14 @@ impl Importer<'_> {
             self.warn_once("empty primitive", format!("{what}: has no triangles"))?;
             return Ok(None);
         }
-        let tm = TriangleMesh { positions, indices, normals, uvs, uvs1, colors, tangents, ..TriangleMesh::default() };
+        let mut tm =
+            TriangleMesh { positions, indices, normals, uvs, uvs1, colors, tangents, ..TriangleMesh::default() };
+        if tm.tangents.is_none() && primitive.material().normal_texture().is_some() {
+            // "When tangents are not specified, client implementations
+            // SHOULD calculate tangents" (glTF 2.0 §3.7.2.1): smooth ones,
+            // where the mesh has normals and uvs to make them from.
+            tm.compute_tangents();
+        }
         let mesh = Mesh::new(tm).map_err(|e| GltfError::new(&what, e.to_string()))?;
         Ok(Some(Arc::new(mesh)))
     }
