@@ -258,5 +258,11 @@ fn text(s: &Scene) -> String {
 }
 
 libfuzzer_sys::fuzz_target!(|scene: Scene| {
-    lucent::tools::readers::Reader::PbrtImport.feed(text(&scene).as_bytes());
+    let text = text(&scene);
+    // To turn a finding into a regression file: run the target on it with
+    // LUCENT_FUZZ_PRINT=1 and keep the scene text it prints.
+    if std::env::var_os("LUCENT_FUZZ_PRINT").is_some() {
+        eprintln!("{text}");
+    }
+    lucent::tools::readers::Reader::PbrtImport.feed(text.as_bytes());
 });
