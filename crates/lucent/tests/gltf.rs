@@ -601,19 +601,40 @@ fn textured_materials_convert_to_a_scene_file_that_renders_the_same() {
     camera_at(&mut doc, 3.0);
     let glb = doc.write_glb(dir.path(), "textured");
     let loaded = import_small(&glb);
-    let out = dir.path().join("converted.toml");
-    let summary = lucent::loader::export_scene(&loaded, &out).unwrap();
+    let (summary, pixels) = converts_to_the_same_image(&loaded, dir.path(), 16);
     // Image 0 is read twice, as sRGB colour and as linear data: three
     // decoded images, each written as the texels the renderer used.
     assert_eq!(summary.image_files.len(), 3, "the embedded images written: {:?}", summary.image_files);
+    // The texture shows: the pixels differ.
+    assert!(pixels.iter().any(|c| *c != pixels[0]));
+}
+
+/// Converts `loaded` to a scene file in `dir`, loads that back, renders
+/// both at `spp` and asserts they give the same pixels; the export's
+/// summary and the pixels.
+fn converts_to_the_same_image(
+    loaded: &LoadedScene,
+    dir: &Path,
+    spp: u32,
+) -> (lucent::loader::ExportSummary, Vec<Vec3>) {
+    let out = dir.join("converted.toml");
+    let summary = lucent::loader::export_scene(loaded, &out).unwrap();
     let again = lucent::loader::load_scene(&out).unwrap_or_else(|e| panic!("{e}"));
-    let settings = RenderSettings { spp: 16, ..loaded.settings.clone() };
+    let settings = RenderSettings { spp, ..loaded.settings.clone() };
     let options = || RenderOptions { threads: Some(2), ..Default::default() };
     let a = render(&loaded.scene, &settings, options()).unwrap().film;
     let b = render(&again.scene, &settings, options()).unwrap().film;
     assert_eq!(a.pixels(), b.pixels(), "the converted scene renders the same image");
-    // The texture shows: the pixels differ.
-    assert!(a.pixels().iter().any(|c| *c != a.pixels()[0]));
+    (summary, a.pixels().to_vec())
+}
+
+/// A 2 × 1 texture of the two RGBA texels, read without filtering, as
+/// `textures[0]`.
+fn two_texel_texture(doc: &mut Doc, left: [u8; 4], right: [u8; 4]) {
+    let v = doc.view(&png(2, 1, |x, _| if x == 0 { left } else { right }));
+    doc.set("images", json!([ { "bufferView": v, "mimeType": "image/png" } ]));
+    doc.set("samplers", json!([ { "magFilter": 9728, "minFilter": 9728 } ]));
+    doc.set("textures", json!([ { "source": 0, "sampler": 0 } ]));
 }
 
 #[test]
@@ -669,11 +690,7 @@ fn normal_maps_tilt_towards_the_tangent_and_up_the_image() {
 fn vertex_colours_second_uv_set_and_tangents() {
     let dir = tempfile::tempdir().unwrap();
     let mut doc = Doc::new();
-    // Left texel red, right texel green, read without filtering.
-    let v = doc.view(&png(2, 1, |x, _| if x == 0 { [255, 0, 0, 255] } else { [0, 255, 0, 255] }));
-    doc.set("images", json!([ { "bufferView": v, "mimeType": "image/png" } ]));
-    doc.set("samplers", json!([ { "magFilter": 9728, "minFilter": 9728 } ]));
-    doc.set("textures", json!([ { "source": 0, "sampler": 0 } ]));
+    two_texel_texture(&mut doc, [255, 0, 0, 255], [0, 255, 0, 255]);
     doc.set(
         "materials",
         json!([ {
@@ -726,14 +743,7 @@ fn vertex_colours_second_uv_set_and_tangents() {
     assert!(loaded.scene.intersect(&down(-0.5, -0.9), f32::INFINITY).is_some());
 
     // The scene file keeps all of it (the PLY carries the attributes).
-    let out = dir.path().join("converted.toml");
-    lucent::loader::export_scene(&loaded, &out).unwrap();
-    let again = lucent::loader::load_scene(&out).unwrap_or_else(|e| panic!("{e}"));
-    let settings = RenderSettings { spp: 8, ..loaded.settings.clone() };
-    let options = || RenderOptions { threads: Some(2), ..Default::default() };
-    let a = render(&loaded.scene, &settings, options()).unwrap().film;
-    let b = render(&again.scene, &settings, options()).unwrap().film;
-    assert_eq!(a.pixels(), b.pixels(), "the converted scene renders the same image");
+    converts_to_the_same_image(&loaded, dir.path(), 8);
 }
 
 /// Renders see the vertex colour: a Lambertian quad (specular 0) painted
@@ -744,10 +754,7 @@ fn vertex_colours_second_uv_set_and_tangents() {
 fn vertex_colours_and_the_second_uv_set_show_in_renders() {
     let dir = tempfile::tempdir().unwrap();
     let mut doc = Doc::new();
-    let v = doc.view(&png(2, 1, |x, _| if x == 0 { [255, 255, 255, 255] } else { [0, 0, 0, 255] }));
-    doc.set("images", json!([ { "bufferView": v, "mimeType": "image/png" } ]));
-    doc.set("samplers", json!([ { "magFilter": 9728, "minFilter": 9728 } ]));
-    doc.set("textures", json!([ { "source": 0, "sampler": 0 } ]));
+    two_texel_texture(&mut doc, [255, 255, 255, 255], [0, 0, 0, 255]);
     doc.set(
         "materials",
         json!([
