@@ -856,6 +856,12 @@ fn fresnel_table() -> &'static FresnelTable {
 }
 
 impl MetallicRoughnessBxdf {
+    /// The relative index of refraction of the transmission lobe (1 when
+    /// it does not bend light: thin-walled or `ior = 1`).
+    pub(crate) fn refraction_eta(&self) -> f32 {
+        Setup::new(self).eta
+    }
+
     /// A dielectric's reflectance at normal incidence against air,
     /// `f0 = ((ior − 1)/(ior + 1))²` (glTF 2.0 Appendix B, `fresnel_mix`;
     /// `KHR_materials_ior`): 0.04 for the default 1.5, 1 for `ior` 0 or ∞

@@ -123,12 +123,13 @@ pub trait BxDF {
 }
 
 /// Which quantity a BSDF transports (PBRT 4th ed., §9.5.2): radiance
-/// (from lights to the camera, the only mode of the integrators) or
-/// importance (its adjoint). They differ in the `1/η²` scaling of
-/// refraction; the layered BxDFs need the adjoint for the directions they
-/// sample from `wi`.
+/// (paths traced from the camera: the path tracer, and the camera subpaths
+/// of bidirectional path tracing) or importance, its adjoint (paths traced
+/// from the lights). They differ in the `1/η²` scaling of refraction; the
+/// layered BxDFs also need the adjoint for the directions they sample from
+/// `wi`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum TransportMode {
+pub enum TransportMode {
     /// Radiance: refraction scales by `1/η'²`.
     Radiance,
     /// Importance: no scaling.
@@ -333,6 +334,31 @@ impl BxDF for Bxdf {
     }
 }
 
+impl Bxdf {
+    /// The factor by which radiance transport scales this BxDF's value for
+    /// the local pair (`wo`, `wi`) relative to importance transport:
+    /// `1/η'²` for a pair on opposite sides of a refracting interface
+    /// (PBRT 4th ed. §9.5.2: radiance is compressed into a smaller solid
+    /// angle on entering a denser medium; importance is not), with
+    /// `η' = η` when `wo` is on the outside (`wo.z > 0`) and `1/η`
+    /// otherwise; 1 for every other pair and BxDF. The BxDFs of this
+    /// module compute radiance transport; importance transport divides by
+    /// this ([`Bsdf::f_mode`]).
+    #[inline]
+    pub fn radiance_scale(&self, wo: Vec3, wi: Vec3) -> f32 {
+        let eta = match self {
+            Self::Dielectric(b) => b.eta,
+            Self::MetallicRoughness(b) => b.refraction_eta(),
+            _ => return 1.0,
+        };
+        if wo.z * wi.z >= 0.0 || eta == 1.0 {
+            return 1.0;
+        }
+        let etap = if wo.z > 0.0 { eta } else { 1.0 / eta };
+        1.0 / (etap * etap)
+    }
+}
+
 /// Whether two local directions are strictly on the same side of the
 /// surface.
 #[inline]
@@ -427,6 +453,34 @@ impl Bsdf {
     #[inline]
     pub fn is_specular(&self) -> bool {
         self.bxdf.is_specular()
+    }
+
+    /// [`Bsdf::f`] for the quantity `mode` transports: for importance, the
+    /// adjoint BSDF `f*(wo, wi) = f(wi, wo)`, which for the reciprocal
+    /// BxDFs here differs from `f(wo, wi)` only by the `η'²` of
+    /// refraction ([`Bxdf::radiance_scale`]; Veach 1997, §5.2).
+    #[inline]
+    pub fn f_mode(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Color {
+        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        let f = self.bxdf.f(o, i);
+        match mode {
+            TransportMode::Radiance => f,
+            TransportMode::Importance => f / self.bxdf.radiance_scale(o, i),
+        }
+    }
+
+    /// [`Bsdf::sample_f`] for the quantity `mode` transports: the same
+    /// direction and pdf, and for importance the adjoint's value (see
+    /// [`Bsdf::f_mode`]).
+    #[inline]
+    pub fn sample_f_mode(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        let o = self.frame.to_local(wo);
+        let mut s = self.bxdf.sample_f(o, uc, u)?;
+        if mode == TransportMode::Importance {
+            s.f /= self.bxdf.radiance_scale(o, s.wi);
+        }
+        s.wi = self.frame.from_local(s.wi);
+        Some(s)
     }
 }
 

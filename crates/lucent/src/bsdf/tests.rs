@@ -582,6 +582,36 @@ fn reflection_is_reciprocal_and_transmission_generalised_reciprocal() {
     }
 }
 
+/// The adjoint BSDF of importance transport is the radiance BSDF with its
+/// arguments swapped, `f*(wo, wi) = f(wi, wo)` (Veach 1997, §5.2), for
+/// every BxDF and pair; and a sample in importance mode is the radiance
+/// sample with that value.
+#[test]
+fn importance_mode_is_the_adjoint() {
+    let mut rng = Pcg32::new(17, 5);
+    for (name, b) in all_bxdfs() {
+        let bsdf = Bsdf::from_normal(Vec3::Z, b);
+        for _ in 0..20_000 {
+            let (wo, wi) = (random_wo(&mut rng), random_wo(&mut rng));
+            let adjoint = bsdf.f_mode(wo, wi, TransportMode::Importance);
+            let swapped = bsdf.f_mode(wi, wo, TransportMode::Radiance);
+            for k in 0..3 {
+                // (Small rough-refraction values lose relative precision
+                // to cancellation: compared absolutely below 0.05.)
+                let err = (adjoint[k] - swapped[k]).abs() / adjoint[k].abs().max(swapped[k].abs()).max(5e-2);
+                assert!(err < 1e-3, "{name}: f*(wo, wi) {adjoint} vs f(wi, wo) {swapped}");
+            }
+            let (uc, u) = (rng.uniform(), Vec2::new(rng.uniform(), rng.uniform()));
+            if let Some(r) = bsdf.sample_f_mode(wo, uc, u, TransportMode::Radiance) {
+                let i = bsdf.sample_f_mode(wo, uc, u, TransportMode::Importance).expect("same sample");
+                assert_eq!((i.wi, i.pdf, i.specular), (r.wi, r.pdf, r.specular), "{name}");
+                let want = if r.transmission { r.f * (r.eta * r.eta) } else { r.f };
+                assert!((i.f - want).abs().max_element() <= 1e-4 * want.max_element().max(1.0), "{name}");
+            }
+        }
+    }
+}
+
 // ---------------------------------------------------------------------------
 // Energy.
 
