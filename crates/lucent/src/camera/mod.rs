@@ -5,8 +5,10 @@
 //! [`Camera::pbrt`] makes pbrt-v4's cameras from a camera-to-world transform
 //! and a [`Projection`] (see `projection.rs` for pbrt's conventions).
 
+mod importance;
 mod projection;
 
+pub use importance::ImportanceSample;
 pub use projection::{Projection, SphericalMapping};
 
 use crate::geometry::{Ray, Vec2, Vec3};
