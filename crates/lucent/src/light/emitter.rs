@@ -111,7 +111,7 @@ impl Emitter {
 
 /// Radius of the sphere around `bounds` (half its diagonal); 1 for an empty
 /// or infinite box.
-fn scene_radius(bounds: &Bounds3) -> f32 {
+pub(crate) fn scene_radius(bounds: &Bounds3) -> f32 {
     if bounds.is_empty() || bounds.is_infinite() {
         return 1.0;
     }

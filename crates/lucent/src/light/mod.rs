@@ -16,7 +16,9 @@
 //! `ReverseOrientation`.
 
 mod area;
+mod emission;
 mod emitter;
+pub(crate) use emitter::scene_radius;
 mod environment;
 pub mod equal_area;
 mod pbrt;
@@ -24,6 +26,7 @@ mod rectangles;
 mod set;
 
 pub use area::{AreaLight, EmissionImage};
+pub use emission::LeSample;
 pub use emitter::{Emitter, LiSample, LightSampleContext};
 pub use environment::{
     equirect_direction, equirect_uv, read_environment_image, Environment, EnvironmentError, EnvironmentMap,
