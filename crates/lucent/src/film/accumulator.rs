@@ -1,8 +1,9 @@
 //! The film of progressive rendering: filter-weighted sums of samples per
 //! pixel, kept in fixed point so that they are exact.
 
-use super::{check_image_size, Aov, AovSet, Film, FilmError};
+use super::{check_image_size, Aov, AovSet, Film, FilmError, Filter1d};
 use crate::color::Color;
+use crate::geometry::Vec2;
 use std::sync::atomic::{AtomicI64, Ordering};
 
 /// Fixed-point scale of the sums: one unit is 2⁻²⁰ (about 10⁻⁶).
@@ -28,6 +29,14 @@ pub const MAX_CONTRIBUTION: f32 = (1u32 << 19) as f32;
 /// bit-identical however the work was split among threads, passes, or
 /// interrupted and resumed runs, even though neighbouring rows rendered by
 /// different threads add to the same pixels.
+///
+/// A film with a light image ([`AovSet::with_light_image`]) keeps three
+/// more sums per pixel after the AOV channels: `Σ w·S` of the light-tracing
+/// splats `S` that landed near it, each weighted by the filter normalised
+/// to integrate to 1 (pbrt-v4's `RGBFilm::AddSplat`). They estimate the
+/// pixel's share of light reaching the camera straight from light
+/// subpaths, and are added to the colour's mean divided by the samples per
+/// pixel, as in pbrt-v4 (every camera sample traced one light subpath).
 ///
 /// An accumulator for adaptive sampling (see [`super::adaptive`]) keeps,
 /// after the AOV channels, the sums `Σw·r, Σw·g, Σw·b, Σw` of the
@@ -80,7 +89,7 @@ impl Accumulator {
     }
 
     fn stride_of(aovs: AovSet, adaptive: bool) -> usize {
-        4 + aovs.channel_count() + if adaptive { 4 } else { 0 }
+        4 + aovs.stored_channels() + if adaptive { 4 } else { 0 }
     }
 
     /// Rebuild from stored fixed-point sums (a checkpoint): per pixel, row
@@ -241,6 +250,51 @@ impl Accumulator {
         }
     }
 
+    /// Add the light-tracing splat `s`, already weighted by the normalised
+    /// filter, to pixel `(x, y)`'s light image (a film that keeps one:
+    /// otherwise nothing happens).
+    #[inline]
+    pub fn add_light(&self, x: u32, y: u32, s: Color) {
+        if !self.aovs.has_light_image() {
+            return;
+        }
+        let at = 4 + self.aovs.channel_count();
+        for (sum, v) in self.pixel_sums(x, y)[at..at + 3].iter().zip(s.to_array()) {
+            sum.fetch_add(fixed_value(v, 1.0), Ordering::Relaxed);
+        }
+    }
+
+    /// Add the light-tracing splat `l` landing at film position `film`
+    /// (pixels) to the light image of every pixel whose filter covers it,
+    /// weighted by the filter `f1` (of radius `radius`) times
+    /// `inv_integral`, one over the filter's integral
+    /// ([`super::Filter::integral`]), so that the splat adds `l` in all.
+    pub fn splat_light(&self, film: Vec2, l: Color, f1: &Filter1d, radius: f32, inv_integral: f32) {
+        if !(self.aovs.has_light_image() && film.x.is_finite() && film.y.is_finite()) {
+            return;
+        }
+        // Pixel i's centre is i + ½: covered when |i + ½ − p| ≤ r.
+        let span = |p: f32, n: u32| {
+            let lo = (p - 0.5 - radius).ceil().max(0.0);
+            let hi = (p - 0.5 + radius).floor().min(n as f32 - 1.0);
+            (lo as i64, hi as i64)
+        };
+        let (x0, x1) = span(film.x, self.width);
+        let (y0, y1) = span(film.y, self.height);
+        for y in y0..=y1 {
+            let wy = f1.evaluate(y as f32 + 0.5 - film.y);
+            if wy == 0.0 {
+                continue;
+            }
+            for x in x0..=x1 {
+                let w = wy * f1.evaluate(x as f32 + 0.5 - film.x) * inv_integral;
+                if w != 0.0 {
+                    self.add_light(x as u32, y as u32, l * w);
+                }
+            }
+        }
+    }
+
     #[inline]
     fn pixel_sums(&self, x: u32, y: u32) -> &[AtomicI64] {
         let i = (y as usize * self.width as usize + x as usize) * self.stride;
@@ -258,10 +312,19 @@ impl Accumulator {
 
     /// The image so far: each pixel's weighted mean (black where no weight
     /// has been recorded).
+    ///
+    /// With a light image, each pixel's light sums divided by the samples
+    /// per pixel are added.
     pub fn to_film(&self) -> Film {
         let mut film = Film::new(self.width, self.height).expect("size checked at construction");
+        let light = (self.aovs.has_light_image() && self.spp > 0).then(|| 4 + self.aovs.channel_count());
+        let inv_spp = 1.0 / (self.spp.max(1) as f64 * FIXED_POINT_SCALE);
         for (out, (inv_w, s)) in film.pixels_mut().iter_mut().zip(self.means()) {
-            let [r, g, b] = std::array::from_fn(|i| (s[i].load(Ordering::Relaxed) as f64 * inv_w) as f32);
+            let [r, g, b] = std::array::from_fn(|i| {
+                let mean = s[i].load(Ordering::Relaxed) as f64 * inv_w;
+                let splats = light.map_or(0.0, |at| s[at + i].load(Ordering::Relaxed) as f64 * inv_spp);
+                (mean + splats) as f32
+            });
             *out = Color::new(r, g, b);
         }
         film
@@ -275,7 +338,7 @@ impl Accumulator {
         for (inv_w, s) in self.means() {
             values.extend(s[4..4 + channels].iter().map(|v| (v.load(Ordering::Relaxed) as f64 * inv_w) as f32));
         }
-        AovImages { width: self.width, height: self.height, aovs: self.aovs, values }
+        AovImages { width: self.width, height: self.height, aovs: self.aovs.without_light_image(), values }
     }
 }
 

@@ -68,7 +68,7 @@ impl Accumulator {
             return 0;
         }
         let (w, h) = (self.width() as usize, self.height() as usize);
-        let odd_at = 4 + self.aovs().channel_count();
+        let odd_at = 4 + self.aovs().stored_channels();
         let converged: Vec<bool> = (0..w * h)
             .map(|i| {
                 let s: Vec<i64> = self.pixel_raw(i).collect();

@@ -91,6 +91,14 @@ impl FromStr for Aov {
 /// A set of AOVs. Their channels are always stored in the order of
 /// [`Aov::ALL`], whatever the order they were asked for in.
 ///
+/// The set also says whether the film keeps a *light image* after the AOV
+/// channels ([`AovSet::with_light_image`]): the splats of light-tracing
+/// strategies of bidirectional path tracing, three sums per pixel that are
+/// not averaged but added to the colour (see
+/// [`Accumulator`](super::Accumulator)). It is no AOV (it is never listed,
+/// named or written as a layer), but it travels with them through
+/// checkpoints and partial renders, which store the set.
+///
 /// ```
 /// use lucent::film::{Aov, AovSet};
 /// let set: AovSet = "depth,albedo".parse().unwrap();
@@ -109,9 +117,34 @@ impl AovSet {
         AovSet(aovs.iter().fold(0, |bits, a| bits | a.bit()))
     }
 
-    /// Whether the set is empty.
+    /// The bit of the light image (after the AOVs' bits).
+    const LIGHT_IMAGE: u32 = 1 << Aov::ALL.len();
+
+    /// Whether the set holds no AOV (a light image does not count).
     pub fn is_empty(self) -> bool {
-        self.0 == 0
+        self.0 & !Self::LIGHT_IMAGE == 0
+    }
+
+    /// The set with the light image of bidirectional path tracing added
+    /// (see the type's docs).
+    pub fn with_light_image(self) -> Self {
+        AovSet(self.0 | Self::LIGHT_IMAGE)
+    }
+
+    /// The set without the light image: the AOVs alone.
+    pub fn without_light_image(self) -> Self {
+        AovSet(self.0 & !Self::LIGHT_IMAGE)
+    }
+
+    /// Whether the film keeps a light image.
+    pub fn has_light_image(self) -> bool {
+        self.0 & Self::LIGHT_IMAGE != 0
+    }
+
+    /// Values stored per pixel after the colour's four sums: the AOV
+    /// channels, then 3 for the light image if held.
+    pub fn stored_channels(self) -> usize {
+        self.channel_count() + if self.has_light_image() { 3 } else { 0 }
     }
 
     /// Whether `aov` is in the set.
@@ -151,7 +184,7 @@ impl AovSet {
 
     /// The set stored as `bits`, if every bit names an AOV.
     pub fn from_bits(bits: u32) -> Option<Self> {
-        (bits >> Aov::ALL.len() == 0).then_some(AovSet(bits))
+        (bits >> (Aov::ALL.len() + 1) == 0).then_some(AovSet(bits))
     }
 
     /// Where `aov`'s first channel lies among the set's channels.
@@ -227,7 +260,12 @@ mod tests {
         assert_eq!(AovSet::of(&[Aov::Depth]).offset(Aov::Normal), None);
         assert_eq!("none".parse::<AovSet>().unwrap(), AovSet::NONE);
         assert_eq!(AovSet::from_bits(all.bits()), Some(all));
-        assert_eq!(AovSet::from_bits(1 << 4), None);
+        assert_eq!(AovSet::from_bits(1 << 5), None);
+        let light = AovSet::of(&[Aov::Depth]).with_light_image();
+        assert_eq!(AovSet::from_bits(light.bits()), Some(light));
+        assert!(AovSet::NONE.with_light_image().is_empty() && light.has_light_image());
+        assert_eq!((light.channel_count(), light.stored_channels()), (1, 4));
+        assert_eq!((light.to_string(), light.without_light_image()), ("depth".to_owned(), AovSet::of(&[Aov::Depth])));
         let e = "albedo,colour".parse::<AovSet>().unwrap_err();
         assert_eq!(e.to_string(), "unknown auxiliary image 'colour' (accepted: albedo, normal, position, depth)");
         let sample = AovSample {

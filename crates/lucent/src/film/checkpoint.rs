@@ -157,7 +157,7 @@ pub fn load_checkpoint(
     }
     check_image_size(w, h).map_err(|e| invalid(&e.to_string()))?;
     let pixels = w as usize * h as usize;
-    let sums_len = pixels * (4 + aovs.channel_count() + if adaptive { 4 } else { 0 });
+    let sums_len = pixels * (4 + aovs.stored_channels() + if adaptive { 4 } else { 0 });
     let counts_len = if adaptive { pixels } else { 0 };
     let expected = (sums_len * 8 + counts_len * 4) as u64;
     let actual = f.metadata().map(|m| m.len()).unwrap_or(0).saturating_sub(header_len as u64);

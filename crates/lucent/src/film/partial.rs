@@ -312,7 +312,7 @@ impl PartialFilm {
         let aovs =
             AovSet::from_bits(aovs).ok_or_else(|| damaged(format!("unknown auxiliary images (bits {aovs:#x})")))?;
         let n = u32_at(header - 4) as usize;
-        let sums_len = width as usize * height as usize * (4 + aovs.channel_count());
+        let sums_len = width as usize * height as usize * (4 + aovs.stored_channels());
         let expected = (header as u64) + 8 * n as u64 + 8 * sums_len as u64 + 8;
         if bytes.len() as u64 != expected {
             return Err(damaged(format!("{} bytes, expected {expected} for its header", bytes.len())));
