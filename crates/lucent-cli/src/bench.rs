@@ -80,10 +80,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             scene.camera().width(),
             scene.camera().height(),
             settings.spp,
-            match settings.integrator {
-                lucent::render::IntegratorKind::Whitted => "whitted",
-                lucent::render::IntegratorKind::Path => "path",
-            },
+            settings.integrator.name(),
             args.repeats
         )?;
         say!("{:>8} {:>12} {:>12} {:>12} {:>10}", "threads", "seconds", "Mrays/s", "Msamples/s", "speedup")?;

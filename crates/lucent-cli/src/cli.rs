@@ -224,6 +224,9 @@ pub enum IntegratorArg {
     Whitted,
     /// Path tracing: global illumination, area lights, glass and metal.
     Path,
+    /// Bidirectional path tracing: the path tracer's light transport, with
+    /// light subpaths for caustics.
+    Bdpt,
 }
 
 /// `--sampler` values.

@@ -66,14 +66,14 @@ pub fn run(args: &RenderArgs, source: &SceneSource, out_path: &Path) -> Result<(
                 out_path.display()
             ));
         }
-        load_checkpoint(&ckpt, fp, w, h, settings.aovs, settings.adaptive.is_some()).map_err(|e| match e {
+        load_checkpoint(&ckpt, fp, w, h, settings.film_aovs(), settings.adaptive.is_some()).map_err(|e| match e {
             CheckpointError::Mismatch { .. } if settings.sampler == SamplerKind::Stratified => format!(
                 "{e}; with the stratified sampler each pixel's samples form one grid of --spp, so a render resumes only with the same --spp (to add samples later, render with --sampler sobol)"
             ),
             e => e.to_string(),
         })?
     } else {
-        Accumulator::with_layout(w, h, settings.aovs, settings.adaptive.is_some()).map_err(|e| e.to_string())?
+        Accumulator::with_layout(w, h, settings.film_aovs(), settings.adaptive.is_some()).map_err(|e| e.to_string())?
     };
     // With a time budget and no explicit --spp, the budget alone decides.
     let target = match (args.time, args.overrides.spp) {

@@ -52,6 +52,7 @@ fn library_overrides(o: &SceneOverrides, import: &ImportArgs) -> lucent::loader:
         integrator: o.integrator.map(|i| match i {
             IntegratorArg::Whitted => IntegratorKind::Whitted,
             IntegratorArg::Path => IntegratorKind::Path,
+            IntegratorArg::Bdpt => IntegratorKind::Bdpt,
         }),
         sampler: o.sampler.map(|s| match s {
             SamplerArg::Stratified => SamplerKind::Stratified,

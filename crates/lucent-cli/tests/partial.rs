@@ -110,6 +110,49 @@ fn stratified_parts_merge_exactly() {
     assert_error(&run, &["b.lpart", "different renders"]);
 }
 
+/// Bidirectional path tracing splats light-tracing contributions all over
+/// the film: parts still merge exactly (their light images add), and a
+/// checkpointed, resumed render equals one done in one go.
+#[test]
+fn bdpt_parts_merge_and_resume_exactly() {
+    let dir = fixture();
+    let d = dir.path();
+    let args = ["--integrator", "bdpt", "--spp", "6", "--max-depth", "4", "-q"];
+    fn with<'a>(extra: &[&'a str], args: &[&'a str]) -> Vec<&'a str> {
+        [&["render", "scene.toml"], extra, args].concat()
+    }
+    run_ok(d, &with(&["-o", "full.exr"], &args));
+    run_ok(d, &with(&["--samples", "0..2", "-o", "a.lpart"], &args));
+    run_ok(d, &with(&["--samples", "2..6", "-o", "b.lpart"], &args));
+    run_ok(d, &["merge", "b.lpart", "a.lpart", "-o", "m.exr", "-q"]);
+    assert_eq!(bytes(d, "m.exr"), bytes(d, "full.exr"));
+    // A part of a path-traced render is another render.
+    run_ok(
+        d,
+        &[
+            "render",
+            "scene.toml",
+            "--integrator",
+            "path",
+            "--spp",
+            "6",
+            "--max-depth",
+            "4",
+            "--samples",
+            "2..6",
+            "-o",
+            "p.lpart",
+            "-q",
+        ],
+    );
+    assert_error(&lucent(d, &["merge", "a.lpart", "p.lpart", "-o", "x.exr"]), &["p.lpart", "different renders"]);
+    // Three samples with a checkpoint, then resumed to six.
+    let resume = ["--integrator", "bdpt", "--max-depth", "4", "-q", "-o", "r.exr", "--checkpoint-every", "1000"];
+    run_ok(d, &with(&["--spp", "3"], &resume));
+    run_ok(d, &with(&["--spp", "6", "--resume"], &resume));
+    assert_eq!(bytes(d, "r.exr"), bytes(d, "full.exr"));
+}
+
 #[test]
 fn bad_merges_are_refused_and_write_nothing() {
     let dir = fixture();

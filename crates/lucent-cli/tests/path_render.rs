@@ -879,7 +879,7 @@ fn unknown_integrator_and_sampler() {
     // On the command line: a parse error.
     f.write("scene.toml", FULL_SCENE);
     let run = f.render("scene.toml", "out.png", &["--integrator", "bidir"]);
-    assert_fails_with(&run, 2, &["--integrator", "bidir", "whitted", "path"]);
+    assert_fails_with(&run, 2, &["--integrator", "bidir", "whitted", "path", "bdpt"]);
     let run = f.render("scene.toml", "out.png", &["--sampler", "halton"]);
     assert_fails_with(&run, 2, &["--sampler", "halton", "sobol", "independent"]);
     assert!(!f.file("out.png").exists());

@@ -55,7 +55,10 @@ fn overrides(
         .map(|i| match i {
             "whitted" => Ok(IntegratorKind::Whitted),
             "path" => Ok(IntegratorKind::Path),
-            other => Err(PyValueError::new_err(format!("unknown integrator '{other}' (accepted: whitted, path)"))),
+            "bdpt" => Ok(IntegratorKind::Bdpt),
+            other => {
+                Err(PyValueError::new_err(format!("unknown integrator '{other}' (accepted: whitted, path, bdpt)")))
+            }
         })
         .transpose()?;
     let sampler = sampler
@@ -238,8 +241,9 @@ impl Source {
     /// An empty accumulation of this scene's size.
     fn accumulation(&self) -> PyResult<Accumulation> {
         let settings = &self.inner.loaded.settings;
-        let acc = Accumulator::with_layout(self.width(), self.height(), settings.aovs, settings.adaptive.is_some())
-            .map_err(|e| scene_error_text(&format!("cannot make the image: {e}")))?;
+        let acc =
+            Accumulator::with_layout(self.width(), self.height(), settings.film_aovs(), settings.adaptive.is_some())
+                .map_err(|e| scene_error_text(&format!("cannot make the image: {e}")))?;
         Ok(Accumulation { acc })
     }
 

@@ -20,6 +20,8 @@ from conftest import SCENES, run_cli
         ("showcase.json", dict(width=32, height=24, spp=2)),
         ("cornell-box.toml", dict(width=24, height=24, spp=4, seed=1)),
         ("glass-and-metal.toml", dict(width=32, height=20, spp=2)),
+        # Bidirectional path tracing, light-tracing splats included.
+        ("caustic.toml", dict(width=24, height=18, spp=2, seed=5)),
     ],
 )
 def test_render_is_the_cli_exr_bit_for_bit(tmp_path, scene, args):
@@ -64,8 +66,8 @@ def test_render_overrides_the_integrator_like_the_cli(tmp_path):
 
 def test_bad_render_arguments_are_value_errors(tiny):
     scene = lucent.Scene.from_dict(tiny)
-    with pytest.raises(ValueError, match="unknown integrator 'bdpt' \\(accepted: whitted, path\\)"):
-        scene.render(integrator="bdpt", progress=False)
+    with pytest.raises(ValueError, match="unknown integrator 'bidir' \\(accepted: whitted, path, bdpt\\)"):
+        scene.render(integrator="bidir", progress=False)
     with pytest.raises(ValueError, match="spp must be at least 1"):
         scene.render(spp=0, progress=False)
     with pytest.raises(ValueError, match="threads must be at least 1"):

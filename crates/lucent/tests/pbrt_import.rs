@@ -153,6 +153,25 @@ fn film_sampler_integrator_and_filter_set_the_render() {
     assert_eq!((d.scene.camera().width(), d.scene.camera().height()), (1280, 720));
 }
 
+/// `Integrator "bdpt"` selects bidirectional path tracing with its depth;
+/// `"sppm"` renders with it too, with a warning that says so, its own
+/// parameters accepted.
+#[test]
+fn bdpt_and_sppm_select_bidirectional_path_tracing() {
+    use lucent::render::IntegratorKind;
+    let b = import(&scene(&format!("{FILM}\nIntegrator \"bdpt\" \"integer maxdepth\" 9"), ""));
+    assert_eq!((b.settings.integrator, b.settings.max_depth), (IntegratorKind::Bdpt, 9));
+    assert!(b.scene.warnings().is_empty(), "{:?}", b.scene.warnings());
+    let s = import(&scene(
+        &format!("{FILM}\nIntegrator \"sppm\" \"integer maxdepth\" 6 \"integer photonsperiteration\" 100000 \"float radius\" 0.05"),
+        "",
+    ));
+    assert_eq!((s.settings.integrator, s.settings.max_depth), (IntegratorKind::Bdpt, 6));
+    let w = s.scene.warnings().join("\n");
+    assert!(w.contains("Integrator \"sppm\" is not supported: rendered with bidirectional path tracing"), "{w}");
+    assert!(!w.contains("photonsperiteration"), "sppm's parameters are not reported unused: {w}");
+}
+
 #[test]
 fn film_iso_and_exposure_scale_the_image() {
     let s = import(&scene("Film \"rgb\" \"float iso\" 400\nCamera \"perspective\" \"float shutterclose\" 0.5", ""));

@@ -483,7 +483,7 @@ class Scene:
         ``time`` a time budget in seconds (as ``--time``: without ``spp``
         the budget alone decides); ``threads`` the worker count (default:
         every core; the image does not depend on it); ``seed`` the sampler's
-        seed; ``integrator`` (``"whitted"``, ``"path"``), ``sampler``
+        seed; ``integrator`` (``"whitted"``, ``"path"``, ``"bdpt"``), ``sampler``
         (``"stratified"``, ``"sobol"``, ``"independent"``) and ``max_depth``
         as on the command line. ``progress``: ``True`` for a progress bar
         (tqdm if installed, else text on stderr), ``False`` for none, or a

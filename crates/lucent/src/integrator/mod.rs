@@ -1,20 +1,23 @@
 //! Integrators: light transport. An integrator answers "how much light
 //! arrives along this ray?" using the scene's geometry, materials and
-//! lights. There are two: the classic [`WhittedIntegrator`] (hard shadows,
-//! perfect mirrors, ambient light) and the physically based
+//! lights. There are three: the classic [`WhittedIntegrator`] (hard
+//! shadows, perfect mirrors, ambient light), the physically based
 //! [`PathIntegrator`] (global illumination with multiple importance
-//! sampling).
+//! sampling), and the [`BdptIntegrator`] (bidirectional path tracing: the
+//! same light transport, with light subpaths for caustics).
 
 mod aov;
+mod bdpt;
 mod path;
 mod whitted;
 
 pub use aov::{reflectance, visible_surface, MAX_DELTA_BOUNCES};
+pub use bdpt::BdptIntegrator;
 pub use path::{power_heuristic, DirectLighting, PathIntegrator, PATH_LANES, RR_DEPTH};
 pub use whitted::WhittedIntegrator;
 
 use crate::color::Color;
-use crate::geometry::Ray;
+use crate::geometry::{Ray, Vec2};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -43,6 +46,19 @@ impl RayStats {
     }
 }
 
+/// Light a camera sample sends to the film somewhere other than its own
+/// pixel: a light-tracing contribution of bidirectional path tracing,
+/// splatted at film position `film` (pixels) into the film's light image
+/// ([`crate::film::AovSet::with_light_image`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FilmSplat {
+    /// Where it lands on the film, in pixels.
+    pub film: Vec2,
+    /// Its value: divided by the samples per pixel, the radiance it adds
+    /// there.
+    pub l: Color,
+}
+
 /// Computes the radiance arriving along a camera ray: the one interface of
 /// light transport, through which the render loop runs every integrator.
 pub trait Integrator: Sync {
@@ -51,6 +67,28 @@ pub trait Integrator: Sync {
     /// with its film and lens dimensions consumed; `stats` counts the rays
     /// traced.
     fn li(&self, scene: &Scene, ray: &Ray, sampler: &mut Sampler, stats: &mut RayStats) -> Color;
+
+    /// Whether the integrator also sends light straight to the film
+    /// ([`FilmSplat`]s, from [`Integrator::li_splat`]): the render loop then
+    /// calls that instead of [`Integrator::li_lanes`], and the film keeps a
+    /// light image. False by default.
+    fn splats_light(&self) -> bool {
+        false
+    }
+
+    /// [`Integrator::li`], also pushing onto `splats` the light this sample
+    /// sends to other places of the film. The default sends none.
+    fn li_splat(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        sampler: &mut Sampler,
+        splats: &mut Vec<FilmSplat>,
+        stats: &mut RayStats,
+    ) -> Color {
+        let _ = splats;
+        self.li(scene, ray, sampler, stats)
+    }
 
     /// [`Integrator::li`] for many camera rays at once: `radiance[i]` is the
     /// radiance along `rays[i]`, with `samplers[i]` positioned at its pixel

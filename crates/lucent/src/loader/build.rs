@@ -193,6 +193,7 @@ impl SceneFile {
         let integrator = match r.integrator {
             IntegratorDesc::Whitted => IntegratorKind::Whitted,
             IntegratorDesc::Path => IntegratorKind::Path,
+            IntegratorDesc::Bdpt => IntegratorKind::Bdpt,
         };
         Ok(RenderSettings {
             spp: r.spp.0,

@@ -252,6 +252,7 @@ fn apply(file: &mut SceneFile, o: &SceneOverrides) -> Result<(), SceneError> {
         r.integrator = match i {
             IntegratorKind::Whitted => IntegratorDesc::Whitted,
             IntegratorKind::Path => IntegratorDesc::Path,
+            IntegratorKind::Bdpt => IntegratorDesc::Bdpt,
         };
     }
     if let Some(s) = o.sampler {

@@ -20,7 +20,7 @@ pub const CANCEL_PASS_INTERVAL: Duration = Duration::from_secs(5);
 use crate::film::{
     validate_film_response, Accumulator, AovImages, AovSet, Film, FilmError, PartialError, PartialFilm, SensorError,
 };
-use crate::integrator::{Integrator, PathIntegrator, RayStats, WhittedIntegrator};
+use crate::integrator::{BdptIntegrator, Integrator, PathIntegrator, RayStats, WhittedIntegrator};
 use crate::scene::Scene;
 use std::time::Duration;
 
@@ -130,6 +130,10 @@ pub enum RenderError {
     /// Adaptive sampling with a sampler that lays samples out in grids.
     #[error("adaptive sampling needs the sobol or independent sampler: the stratified sampler lays each pixel's samples out as one grid of all of them, which a pixel that stops early would leave incomplete")]
     AdaptiveStratified,
+    /// Adaptive sampling with an integrator that splats light onto the
+    /// film (bidirectional path tracing).
+    #[error("adaptive sampling does not work with bdpt: its light subpaths splat light all over the film, so a pixel's error cannot be told from its own samples; render bdpt without --adaptive (or use the path integrator)")]
+    AdaptiveSplats,
     /// The adaptive sampling threshold is not a positive number.
     #[error("the adaptive sampling threshold must be a positive number, got {0}")]
     AdaptiveThreshold(f32),
@@ -157,7 +161,7 @@ pub enum RenderError {
 pub fn render(scene: &Scene, settings: &RenderSettings, options: RenderOptions) -> Result<RenderOutput, RenderError> {
     let camera = scene.camera();
     let mut acc =
-        Accumulator::with_layout(camera.width(), camera.height(), settings.aovs, settings.adaptive.is_some())?;
+        Accumulator::with_layout(camera.width(), camera.height(), settings.film_aovs(), settings.adaptive.is_some())?;
     let report = render_into(scene, settings, &mut acc, options)?;
     Ok(RenderOutput {
         film: acc.to_film(),
@@ -192,7 +196,7 @@ pub fn render_partial(
         return Err(RenderError::AdaptivePartial);
     }
     let camera = scene.camera();
-    let mut acc = Accumulator::with_aovs(camera.width(), camera.height(), settings.aovs)?;
+    let mut acc = Accumulator::with_aovs(camera.width(), camera.height(), settings.film_aovs())?;
     // Start the sample sequences at `samples.start`: the accumulator counts
     // those samples as taken without holding them.
     acc.add_spp(samples.start);
@@ -226,6 +230,10 @@ pub fn render_into(
                 .with_max_indirect(settings.max_indirect);
             render_into_with(scene, settings, &integrator, acc, options)
         }
+        IntegratorKind::Bdpt => {
+            let integrator = BdptIntegrator::new(scene, settings.max_depth);
+            render_into_with(scene, settings, &integrator, acc, options)
+        }
     }
 }
 
@@ -246,8 +254,10 @@ pub fn render_into_with<I: Integrator>(
     if (acc.width(), acc.height()) != (w, h) {
         return Err(RenderError::AccumulatorSize(acc.width(), acc.height(), w, h));
     }
-    if acc.aovs() != settings.aovs {
-        return Err(RenderError::AccumulatorAovs(acc.aovs(), settings.aovs));
+    // The film keeps a light image exactly when the integrator splats.
+    let layout = if integrator.splats_light() { settings.aovs.with_light_image() } else { settings.aovs };
+    if acc.aovs() != layout {
+        return Err(RenderError::AccumulatorAovs(acc.aovs(), layout));
     }
     if acc.is_adaptive() != settings.adaptive.is_some() {
         return Err(RenderError::AccumulatorAdaptive(acc.is_adaptive()));
@@ -258,6 +268,9 @@ pub fn render_into_with<I: Integrator>(
         }
         if settings.sampler == crate::sampling::SamplerKind::Stratified {
             return Err(RenderError::AdaptiveStratified);
+        }
+        if integrator.splats_light() {
+            return Err(RenderError::AdaptiveSplats);
         }
     }
     if options.spp.unwrap_or(settings.spp) == 0 || settings.spp == 0 {

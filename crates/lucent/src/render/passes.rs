@@ -6,9 +6,9 @@
 use super::{RenderError, RenderOptions, RenderReport, RenderSettings, CANCEL_PASS_INTERVAL};
 use crate::color::Color;
 use crate::film::adaptive::{is_decision_point, next_decision_point};
-use crate::film::{film_response, Accumulator, Filter, FilterSampler, SplatBand};
+use crate::film::{film_response, Accumulator, Filter, Filter1d, FilterSampler, SplatBand};
 use crate::geometry::{Ray, Vec2, Vec3};
-use crate::integrator::{visible_surface, Integrator, RayStats, PATH_LANES};
+use crate::integrator::{visible_surface, FilmSplat, Integrator, RayStats, PATH_LANES};
 use crate::sampling::{Sampler, SamplerKind};
 use crate::scene::Scene;
 use rayon::prelude::*;
@@ -199,6 +199,12 @@ impl<I: Integrator> Pass<'_, I> {
         // centre drawn with density ∝ |f|, its weight the filter's sign.
         // (The filter was validated when the settings were made.)
         let fis = settings.filter_importance.then(|| FilterSampler::try_new(*self.filter).ok()).flatten();
+        // Light that samples send elsewhere on the film (bidirectional
+        // path tracing), splatted into its light image with the filter
+        // normalised to integrate to 1.
+        let splats = self.integrator.splats_light();
+        let f1 = Filter1d::new(self.filter);
+        let (radius, inv_integral) = (self.filter.radius(), 1.0 / self.filter.integral());
         (0..h)
             .into_par_iter()
             .map_init(
@@ -206,9 +212,10 @@ impl<I: Integrator> Pass<'_, I> {
                     let sampler = Sampler::new(settings.sampler, settings.seed, settings.spp);
                     let band = SplatBand::new(self.filter, w, h, self.acc.stride());
                     let xs: Vec<u32> = Vec::with_capacity(w as usize);
-                    (vec![sampler; PATH_LANES], band, vec![0.0f32; PATH_LANES * lane_values], xs)
+                    let light: Vec<FilmSplat> = Vec::new();
+                    (vec![sampler; PATH_LANES], band, vec![0.0f32; PATH_LANES * lane_values], xs, light)
                 },
-                |(samplers, band, aux, xs), y| {
+                |(samplers, band, aux, xs, light), y| {
                     let mut stats = RayStats::default();
                     if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
                         return stats;
@@ -251,13 +258,35 @@ impl<I: Integrator> Pass<'_, I> {
                                 rays[j] = camera.generate_ray(film_pos, lens);
                                 film_u[j] = u;
                             }
-                            self.integrator.li_lanes(
-                                self.scene,
-                                &rays[..n],
-                                &mut samplers[..n],
-                                &mut radiance[..n],
-                                &mut stats,
-                            );
+                            if splats {
+                                for j in 0..n {
+                                    radiance[j] = self.integrator.li_splat(
+                                        self.scene,
+                                        &rays[j],
+                                        &mut samplers[j],
+                                        light,
+                                        &mut stats,
+                                    );
+                                }
+                                // Splats pass the film's response as samples do
+                                // (pbrt-v4's `RGBFilm::AddSplat`).
+                                for splat in light.drain(..) {
+                                    if !splat.l.is_finite() {
+                                        bad += 1;
+                                        continue;
+                                    }
+                                    let l = film_response(splat.l, film_scale, max_component);
+                                    self.acc.splat_light(splat.film, l, &f1, radius, inv_integral);
+                                }
+                            } else {
+                                self.integrator.li_lanes(
+                                    self.scene,
+                                    &rays[..n],
+                                    &mut samplers[..n],
+                                    &mut radiance[..n],
+                                    &mut stats,
+                                );
+                            }
                             if channels > 0 {
                                 for (ray, out) in rays[..n].iter().zip(aux.chunks_exact_mut(lane_values)) {
                                     aovs.write(&visible_surface(self.scene, ray, &mut stats), &mut out[..channels]);

@@ -66,15 +66,30 @@ pub enum IntegratorKind {
     Whitted,
     /// Path tracing ([`crate::integrator::PathIntegrator`]).
     Path,
+    /// Bidirectional path tracing ([`crate::integrator::BdptIntegrator`]).
+    Bdpt,
 }
 
 impl IntegratorKind {
     /// The depth a render uses when none is given: 5 mirror bounces for
-    /// Whitted, 64 path vertices for the path tracer.
+    /// Whitted, 64 path vertices for the path tracer (which ends paths by
+    /// Russian roulette), 5 for bidirectional path tracing (pbrt-v4's
+    /// default: its subpaths are traced to full depth and joined every way,
+    /// so its cost grows with the square of the depth).
     pub fn default_max_depth(self) -> u32 {
         match self {
             IntegratorKind::Whitted => 5,
             IntegratorKind::Path => 64,
+            IntegratorKind::Bdpt => 5,
+        }
+    }
+
+    /// The name used in scene files, on the command line and in Python.
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorKind::Whitted => "whitted",
+            IntegratorKind::Path => "path",
+            IntegratorKind::Bdpt => "bdpt",
         }
     }
 
@@ -83,7 +98,7 @@ impl IntegratorKind {
     pub fn default_sampler(self) -> SamplerKind {
         match self {
             IntegratorKind::Whitted => SamplerKind::Stratified,
-            IntegratorKind::Path => SamplerKind::Sobol,
+            IntegratorKind::Path | IntegratorKind::Bdpt => SamplerKind::Sobol,
         }
     }
 }
@@ -110,6 +125,19 @@ impl RenderSettings {
             aovs: AovSet::NONE,
             filter_importance: false,
             adaptive: None,
+        }
+    }
+}
+
+impl RenderSettings {
+    /// What the film keeps per pixel for these settings: the auxiliary
+    /// images asked for, and for bidirectional path tracing the light
+    /// image of its light-tracing splats
+    /// ([`AovSet::with_light_image`]). Make accumulators with this.
+    pub fn film_aovs(&self) -> AovSet {
+        match self.integrator {
+            IntegratorKind::Bdpt => self.aovs.with_light_image(),
+            _ => self.aovs,
         }
     }
 }

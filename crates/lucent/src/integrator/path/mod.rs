@@ -137,7 +137,7 @@ pub(super) fn may_have_interfaces(scene: &Scene) -> bool {
 /// the product of each medium's transmittance over the length it crosses,
 /// through boundaries without a surface (interfaces); zero when a surface
 /// blocks the ray. For scenes with media ([`Scene::has_media`]).
-fn shadow_transmittance(
+pub(super) fn shadow_transmittance(
     scene: &Scene,
     mut ray: Ray,
     mut t_max: f32,

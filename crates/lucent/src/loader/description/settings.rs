@@ -216,6 +216,8 @@ pub enum IntegratorDesc {
     Whitted,
     /// Path tracing.
     Path,
+    /// Bidirectional path tracing.
+    Bdpt,
 }
 
 /// The samplers, as named in scene files.

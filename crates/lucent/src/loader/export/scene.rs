@@ -421,6 +421,7 @@ fn render(scene: &Scene, s: &RenderSettings) -> RenderDesc {
         integrator: match s.integrator {
             IntegratorKind::Whitted => IntegratorDesc::Whitted,
             IntegratorKind::Path => IntegratorDesc::Path,
+            IntegratorKind::Bdpt => IntegratorDesc::Bdpt,
         },
         sampler: Some(match s.sampler {
             SamplerKind::Stratified => SamplerDesc::Stratified,

@@ -156,12 +156,36 @@ impl RenderOptions {
         settings.max_depth = 5;
         if let Some((ty, params, at)) = &self.integrator {
             match ty.as_str() {
-                "path" => {}
-                "volpath" => {}
+                "path" | "volpath" => {}
+                "bdpt" => settings = RenderSettings { integrator: IntegratorKind::Bdpt, ..settings },
+                "sppm" => {
+                    // Stochastic progressive photon mapping renders the same
+                    // light transport as bdpt (both find caustics through
+                    // light subpaths); its own parameters do not apply.
+                    for name in ["photonsperiteration", "seed"] {
+                        let _ = params.int(name)?;
+                    }
+                    let _ = params.float("radius")?;
+                    importer.warnings.warn(
+                        at,
+                        "Integrator \"sppm\" is not supported: rendered with bidirectional path tracing (\"bdpt\"), which converges to the same image".to_owned(),
+                    )?;
+                    settings = RenderSettings { integrator: IntegratorKind::Bdpt, ..settings };
+                }
                 other => importer.warnings.warn(
                     at,
                     format!("Integrator \"{other}\" is not supported: rendered with the path tracer (\"path\")"),
                 )?,
+            }
+            if settings.integrator == IntegratorKind::Bdpt {
+                // pbrt-v4's debugging images of single strategies.
+                for name in ["visualizestrategies", "visualizeweights"] {
+                    if params.bool(name)? == Some(true) {
+                        importer
+                            .warnings
+                            .warn(at, format!("Integrator \"{ty}\": \"bool {name}\" is not supported: ignored"))?;
+                    }
+                }
             }
             if let Some(depth) = params.int("maxdepth")? {
                 if depth < 0 {
@@ -173,6 +197,12 @@ impl RenderOptions {
                 settings.max_depth = (depth as u32).min(crate::loader::MAX_DEPTH);
             }
             settings.regularize = params.bool("regularize")?.unwrap_or(false);
+            if settings.regularize && settings.integrator == IntegratorKind::Bdpt {
+                importer.warnings.warn(
+                    at,
+                    format!("Integrator \"{ty}\": \"bool regularize\" is not supported by lucent's bdpt: ignored"),
+                )?;
+            }
             if let Some(ls) = params.string("lightsampler")? {
                 if ls != "bvh" && ls != "power" && ls != "uniform" {
                     importer.warnings.warn(at, format!("unknown lightsampler \"{ls}\": lights are chosen by power"))?;
