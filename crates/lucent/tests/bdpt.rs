@@ -278,6 +278,171 @@ fn a_chromatic_medium_matches_the_path_tracer() {
     }
 }
 
+/// Renders `body` (a scene without `[render]`'s integrator and spp) with
+/// the path tracer at `spp_path` and bdpt at `spp_bdpt`, and checks that
+/// the channel means agree within `tol` and the means of `block`-pixel
+/// blocks within `4·tol` (of max(mean, 0.05)). Returns both films.
+fn agree(body: &str, spp_path: u32, spp_bdpt: u32, tol: f64, block: u32) -> (Film, Film) {
+    let with = |integrator: &str, spp: u32| {
+        let text = body.replace("[render]", &format!("[render]\nintegrator = \"{integrator}\"\nspp = {spp}"));
+        let s = scene(&text);
+        render(&s.scene, &s.settings, RenderOptions::default()).unwrap().film
+    };
+    let (a, c) = (with("path", spp_path), with("bdpt", spp_bdpt));
+    for k in 0..3 {
+        let mean = |f: &Film| f.pixels().iter().map(|p| p[k] as f64).sum::<f64>() / f.pixels().len() as f64;
+        let (x, y) = (mean(&a), mean(&c));
+        assert!((x - y).abs() < tol * x, "channel {k}: path {x}, bdpt {y}");
+    }
+    for (i, (x, y)) in block_means(&a, block).into_iter().zip(block_means(&c, block)).enumerate() {
+        assert!((x - y).abs() < 4.0 * tol * x.max(0.05), "block {i}: path {x}, bdpt {y}");
+    }
+    (a, c)
+}
+
+/// Smooth shading (vertex normals far from the geometric normal): light
+/// subpaths carry Veach's correction for shading normals, in their walks
+/// and at their connections. Light tracing alone (`s = 2, t = 1`) then
+/// gives the same direct light as next-event estimation alone
+/// (`s = 1, t = 2`), and the weighted whole agrees with the path tracer.
+#[test]
+fn shading_normals_match_the_path_tracer() {
+    let body = r#"
+        [camera]
+        eye = [0, 2.5, 3]
+        look_at = [0, 0, 0]
+        fov = 60
+        [render]
+        width = 24
+        height = 16
+        max_depth = 3
+        [materials.white.diffuse]
+        color = [0.8, 0.8, 0.8]
+        [materials.black.diffuse]
+        color = [0, 0, 0]
+        [[triangle]]
+        vertices = [[-2, 0, -2], [-2, 0, 2], [2, 0, 2]]
+        normals = [[0.9, 1, 0], [0, 1, 1], [-0.8, 1, -0.6]]
+        material = "white"
+        [[triangle]]
+        vertices = [[-2, 0, -2], [2, 0, 2], [2, 0, -2]]
+        normals = [[0.9, 1, 0], [-0.8, 1, -0.6], [0.6, 1, 0.9]]
+        material = "white"
+        [[quad]]
+        vertices = [[-0.5, 1.5, -0.5], [0.5, 1.5, -0.5], [0.5, 1.5, 0.5], [-0.5, 1.5, 0.5]]
+        material = "black"
+        emission = [4, 4, 4]
+        two_sided = true
+    "#;
+    agree(body, 1024, 256, 0.015, 8);
+    let s = scene(&body.replace("[render]", "[render]\nintegrator = \"bdpt\"\nspp = 256"));
+    let alone = |sv: usize, t: usize| {
+        let integrator = BdptIntegrator::new(&s.scene, 1).with_only_strategy(sv, t);
+        let mut acc = Accumulator::with_aovs(24, 16, AovSet::NONE.with_light_image()).unwrap();
+        render_into_with(&s.scene, &s.settings, &integrator, &mut acc, RenderOptions::default()).unwrap();
+        acc.to_film()
+    };
+    let (nee, traced) = (alone(1, 2), alone(2, 1));
+    let mean = |f: &Film| f.pixels().iter().map(|p| p.x as f64).sum::<f64>() / f.pixels().len() as f64;
+    let (x, y) = (mean(&nee), mean(&traced));
+    assert!((x - y).abs() < 0.02 * x, "direct light: next-event estimation {x}, light tracing {y}");
+}
+
+/// Light from infinity over an infinite plane: light subpaths from the
+/// environment and the sun start on a disk across the scene's finite
+/// bounds and never reach the far plane; the weights give those parts to
+/// the camera's strategies alone (no dark ring beyond the disk).
+#[test]
+fn lights_at_infinity_over_an_infinite_plane_match_the_path_tracer() {
+    agree(
+        r#"
+        [camera]
+        eye = [0, 1.2, 5]
+        look_at = [0, 0.5, 0]
+        fov = 70
+        [render]
+        width = 24
+        height = 16
+        max_depth = 3
+        [environment]
+        color = [0.4, 0.5, 0.7]
+        [materials.white.diffuse]
+        color = [0.7, 0.7, 0.7]
+        [[plane]]
+        material = "white"
+        [[sphere]]
+        center = [0, 0.5, 0]
+        radius = 0.5
+        material = "white"
+        [[directional_light]]
+        direction = [-0.4, -1, -0.3]
+        intensity = 2
+    "#,
+        512,
+        128,
+        0.015,
+        8,
+    );
+}
+
+/// Wide filters splat light-traced contributions into the pixels they
+/// cover, normalised over the part of the filter inside the image, as the
+/// camera samples' weights are; with filter importance sampling some
+/// camera rays leave from outside the image. Either way the edges agree
+/// with the path tracer.
+#[test]
+fn image_edges_agree_under_wide_filters() {
+    for fis in [false, true] {
+        let body = format!(
+            r#"
+        [camera]
+        eye = [0, 1, 3.4]
+        look_at = [0, 1, 0]
+        fov = 40
+        [render]
+        width = 16
+        height = 16
+        max_depth = 3
+        filter = {{ kind = "gaussian", radius = 2, sigma = 0.8 }}
+        filter_importance = {fis}
+        [materials.white.diffuse]
+        color = [0.7, 0.7, 0.7]
+        [materials.black.diffuse]
+        color = [0, 0, 0]
+        [[quad]]
+        vertices = [[-3, 0, -3], [-3, 0, 3], [3, 0, 3], [3, 0, -3]]
+        material = "white"
+        [[quad]]
+        vertices = [[-3, 0, -1], [3, 0, -1], [3, 3, -1], [-3, 3, -1]]
+        material = "white"
+        [[quad]]
+        vertices = [[-0.4, 2, -0.4], [0.4, 2, -0.4], [0.4, 2, 0.4], [-0.4, 2, 0.4]]
+        material = "black"
+        emission = [6, 6, 6]
+        two_sided = true
+    "#
+        );
+        let (a, c) = agree(&body, 1024, 256, 0.015, 4);
+        // The outermost ring of pixels on its own.
+        let ring = |f: &Film| {
+            let (w, h) = (f.width(), f.height());
+            let mut sum = 0.0f64;
+            let mut n = 0;
+            for y in 0..h {
+                for x in 0..w {
+                    if x == 0 || y == 0 || x == w - 1 || y == h - 1 {
+                        sum += f.pixel(x, y).x as f64;
+                        n += 1;
+                    }
+                }
+            }
+            sum / n as f64
+        };
+        let (x, y) = (ring(&a), ring(&c));
+        assert!((x - y).abs() < 0.03 * x, "filter importance {fis}: the edge pixels: path {x}, bdpt {y}");
+    }
+}
+
 /// The same seed gives the same image for any number of threads, and a
 /// render resumed twice equals one done in one go (the splats of light
 /// tracing go through the exact fixed-point film too).

@@ -1,9 +1,8 @@
 //! The film of progressive rendering: filter-weighted sums of samples per
 //! pixel, kept in fixed point so that they are exact.
 
-use super::{check_image_size, Aov, AovSet, Film, FilmError, Filter1d};
+use super::{check_image_size, Aov, AovSet, Film, FilmError};
 use crate::color::Color;
-use crate::geometry::Vec2;
 use std::sync::atomic::{AtomicI64, Ordering};
 
 /// Fixed-point scale of the sums: one unit is 2⁻²⁰ (about 10⁻⁶).
@@ -32,8 +31,8 @@ pub const MAX_CONTRIBUTION: f32 = (1u32 << 19) as f32;
 ///
 /// A film with a light image ([`AovSet::with_light_image`]) keeps three
 /// more sums per pixel after the AOV channels: `Σ w·S` of the light-tracing
-/// splats `S` that landed near it, each weighted by the filter normalised
-/// to integrate to 1 (pbrt-v4's `RGBFilm::AddSplat`). They estimate the
+/// splats `S` that landed near it, each weighted by the normalised filter
+/// ([`super::LightSplatter`]; pbrt-v4's `RGBFilm::AddSplat`). They estimate the
 /// pixel's share of light reaching the camera straight from light
 /// subpaths, and are added to the colour's mean divided by the samples per
 /// pixel, as in pbrt-v4 (every camera sample traced one light subpath).
@@ -261,37 +260,6 @@ impl Accumulator {
         let at = 4 + self.aovs.channel_count();
         for (sum, v) in self.pixel_sums(x, y)[at..at + 3].iter().zip(s.to_array()) {
             sum.fetch_add(fixed_value(v, 1.0), Ordering::Relaxed);
-        }
-    }
-
-    /// Add the light-tracing splat `l` landing at film position `film`
-    /// (pixels) to the light image of every pixel whose filter covers it,
-    /// weighted by the filter `f1` (of radius `radius`) times
-    /// `inv_integral`, one over the filter's integral
-    /// ([`super::Filter::integral`]), so that the splat adds `l` in all.
-    pub fn splat_light(&self, film: Vec2, l: Color, f1: &Filter1d, radius: f32, inv_integral: f32) {
-        if !(self.aovs.has_light_image() && film.x.is_finite() && film.y.is_finite()) {
-            return;
-        }
-        // Pixel i's centre is i + ½: covered when |i + ½ − p| ≤ r.
-        let span = |p: f32, n: u32| {
-            let lo = (p - 0.5 - radius).ceil().max(0.0);
-            let hi = (p - 0.5 + radius).floor().min(n as f32 - 1.0);
-            (lo as i64, hi as i64)
-        };
-        let (x0, x1) = span(film.x, self.width);
-        let (y0, y1) = span(film.y, self.height);
-        for y in y0..=y1 {
-            let wy = f1.evaluate(y as f32 + 0.5 - film.y);
-            if wy == 0.0 {
-                continue;
-            }
-            for x in x0..=x1 {
-                let w = wy * f1.evaluate(x as f32 + 0.5 - film.x) * inv_integral;
-                if w != 0.0 {
-                    self.add_light(x as u32, y as u32, l * w);
-                }
-            }
         }
     }
 

@@ -186,19 +186,6 @@ impl Filter {
         self.evaluate_1d(offset.x) * self.evaluate_1d(offset.y)
     }
 
-    /// The integral of the filter over the plane, `(∫f₁)²` (the midpoint
-    /// rule on 4096 intervals of `[−r, r]`, exact for the box and to
-    /// about 10⁻⁷ for the others): what splats are divided by so that each
-    /// adds its whole value to the image (pbrt-v4's `Filter::Integral`).
-    pub fn integral(&self) -> f32 {
-        let f1 = Filter1d::new(self);
-        let r = self.radius() as f64;
-        let n = 4096;
-        let h = 2.0 * r / n as f64;
-        let s: f64 = (0..n).map(|i| f1.eval_f64(-r + (i as f64 + 0.5) * h)).sum::<f64>() * h;
-        (s * s) as f32
-    }
-
     fn eval_1d_f64(&self, x: f64) -> f64 {
         Filter1d::new(self).eval_f64(x)
     }
@@ -253,7 +240,7 @@ impl Filter1d {
         self.eval_f64(x as f64) as f32
     }
 
-    fn eval_f64(&self, x: f64) -> f64 {
+    pub(super) fn eval_f64(&self, x: f64) -> f64 {
         let r = self.r;
         let ax = x.abs();
         if ax > r {
@@ -491,23 +478,6 @@ mod tests {
     fn jittered(n: usize, seed: u64) -> Vec<f32> {
         let mut rng = crate::sampling::Pcg32::new(seed, 1);
         (0..n).map(|i| ((i as f32 + rng.uniform()) / n as f32).min(1.0 - f32::EPSILON / 2.0)).collect()
-    }
-
-    #[test]
-    fn integrals_match_the_closed_forms() {
-        // Box: (2r)²; tent: r²; the others against the fine midpoint rule.
-        assert_eq!(Filter::Box { radius: 0.5 }.integral(), 1.0);
-        assert!((Filter::Box { radius: 1.5 }.integral() - 9.0).abs() < 1e-5);
-        assert!((Filter::Tent { radius: 2.0 }.integral() - 4.0).abs() < 1e-5);
-        for filter in ALL {
-            let (s, _) = integrals_1d(&filter);
-            let want = (s * s) as f32;
-            assert!(
-                (filter.integral() - want).abs() <= 1e-5 * want.abs(),
-                "{filter:?}: {} vs {want}",
-                filter.integral()
-            );
-        }
     }
 
     #[test]

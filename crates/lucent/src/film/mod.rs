@@ -24,7 +24,7 @@ pub use sensor::{
     film_response, imaging_ratio, pbrt_film_scale, validate_film_response, white_balance_matrix, white_balance_scale,
     SensorError,
 };
-pub use splat::{SplatBand, MAX_BAND_REACH};
+pub use splat::{LightSplatter, SplatBand, MAX_BAND_REACH};
 pub use tonemap::{srgb_encode, ToneMap};
 
 /// The film cannot be allocated: its size is unusable or the memory

@@ -261,4 +261,112 @@ mod tests {
             assert_eq!(direct.raw(), banded.raw(), "{filter:?}");
         }
     }
+
+    /// Splats add their whole value to the light image on average over
+    /// where they land (the weights at pixel centres sum to the filter's
+    /// integral only on average), and an edge pixel's weights are
+    /// normalised over the part of the filter inside the image: a uniform
+    /// spray of splats gives every pixel the same value, edges and corners
+    /// included, as a uniform image's camera samples would.
+    #[test]
+    fn light_splats_are_normalised_inside_the_image() {
+        use crate::film::AovSet;
+        for filter in
+            [Filter::Box { radius: 0.5 }, Filter::Gaussian { radius: 1.5, sigma: 0.5 }, Filter::Tent { radius: 2.0 }]
+        {
+            let (w, h) = (9u32, 7u32);
+            let splatter = LightSplatter::new(&filter, w, h);
+            // A stratified spray of splats, 40 × 40 per pixel, of total
+            // value w·h.
+            let mut spray = Accumulator::with_aovs(w, h, AovSet::NONE.with_light_image()).unwrap();
+            spray.add_spp(1);
+            let (nx, ny) = (40 * w, 40 * h);
+            let v = 1.0 / (40 * 40) as f32;
+            for i in 0..nx {
+                for j in 0..ny {
+                    let p = Vec2::new((i as f32 + 0.5) / 40.0, (j as f32 + 0.5) / 40.0);
+                    splatter.splat(&spray, p, Color::splat(v));
+                }
+            }
+            for c in spray.to_film().pixels() {
+                assert!((c.x - 1.0).abs() < 5e-3, "{filter:?}: a pixel of a uniform spray is {}", c.x);
+            }
+        }
+    }
+}
+
+/// Splats of light tracing ([`Accumulator::add_light`]): a splat of value
+/// `S` landing at film position `p` adds `w·S` to the light image of every
+/// pixel whose filter covers it, with `w = f(p − c) / ∫_image f(x − c) dx`
+/// for the pixel centre `c`: the filter normalised over the part of its
+/// footprint inside the image. That is how a pixel's camera samples are
+/// normalised too (their weighted mean divides by the sum of the weights,
+/// which lands only inside the image), so both parts of a pixel are the
+/// same filtered average, at the edges as well (pbrt-v4 divides by the
+/// whole filter's integral, which darkens the light-traced share of edge
+/// pixels under wide filters). The filter is separable, so the clipped
+/// integral is a product of one per column and one per row.
+#[derive(Clone, Debug)]
+pub struct LightSplatter {
+    filter: Filter1d,
+    radius: f32,
+    /// `1 / ∫ f₁` over the image, per column and per row.
+    inv_x: Vec<f32>,
+    inv_y: Vec<f32>,
+}
+
+impl LightSplatter {
+    /// The splatter of `filter` on an image `width` × `height`.
+    pub fn new(filter: &Filter, width: u32, height: u32) -> Self {
+        let f1 = Filter1d::new(filter);
+        let radius = filter.radius();
+        // ∫ f₁(u − c) du over u ∈ [0, n] ∩ [c − r, c + r], c = i + ½: the
+        // midpoint rule on 256 intervals.
+        let clipped = |i: u32, n: u32| {
+            let c = i as f64 + 0.5;
+            let (a, b) = ((c - radius as f64).max(0.0), (c + radius as f64).min(n as f64));
+            let steps = 256;
+            let h = (b - a) / steps as f64;
+            let s: f64 = (0..steps).map(|k| f1.eval_f64(a + (k as f64 + 0.5) * h - c)).sum::<f64>() * h;
+            if s != 0.0 {
+                (1.0 / s) as f32
+            } else {
+                0.0
+            }
+        };
+        Self {
+            radius,
+            inv_x: (0..width).map(|x| clipped(x, width)).collect(),
+            inv_y: (0..height).map(|y| clipped(y, height)).collect(),
+            filter: f1,
+        }
+    }
+
+    /// Add the splat `l` landing at film position `film` (pixels) to the
+    /// light image of `acc`.
+    pub fn splat(&self, acc: &Accumulator, film: Vec2, l: Color) {
+        if !(film.x.is_finite() && film.y.is_finite()) {
+            return;
+        }
+        // Pixel i's centre is i + ½: covered when |i + ½ − p| ≤ r.
+        let span = |p: f32, n: usize| {
+            let lo = (p - 0.5 - self.radius).ceil().max(0.0);
+            let hi = (p - 0.5 + self.radius).floor().min(n as f32 - 1.0);
+            (lo as i64, hi as i64)
+        };
+        let (x0, x1) = span(film.x, self.inv_x.len());
+        let (y0, y1) = span(film.y, self.inv_y.len());
+        for y in y0..=y1 {
+            let wy = self.filter.evaluate(y as f32 + 0.5 - film.y) * self.inv_y[y as usize];
+            if wy == 0.0 {
+                continue;
+            }
+            for x in x0..=x1 {
+                let w = wy * self.filter.evaluate(x as f32 + 0.5 - film.x) * self.inv_x[x as usize];
+                if w != 0.0 {
+                    acc.add_light(x as u32, y as u32, l * w);
+                }
+            }
+        }
+    }
 }

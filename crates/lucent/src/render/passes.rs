@@ -6,7 +6,7 @@
 use super::{RenderError, RenderOptions, RenderReport, RenderSettings, CANCEL_PASS_INTERVAL};
 use crate::color::Color;
 use crate::film::adaptive::{is_decision_point, next_decision_point};
-use crate::film::{film_response, Accumulator, Filter, Filter1d, FilterSampler, SplatBand};
+use crate::film::{film_response, Accumulator, Filter, FilterSampler, LightSplatter, SplatBand};
 use crate::geometry::{Ray, Vec2, Vec3};
 use crate::integrator::{visible_surface, FilmSplat, Integrator, RayStats, PATH_LANES};
 use crate::sampling::{Sampler, SamplerKind};
@@ -203,8 +203,7 @@ impl<I: Integrator> Pass<'_, I> {
         // path tracing), splatted into its light image with the filter
         // normalised to integrate to 1.
         let splats = self.integrator.splats_light();
-        let f1 = Filter1d::new(self.filter);
-        let (radius, inv_integral) = (self.filter.radius(), 1.0 / self.filter.integral());
+        let splatter = splats.then(|| LightSplatter::new(self.filter, w, h));
         (0..h)
             .into_par_iter()
             .map_init(
@@ -276,7 +275,9 @@ impl<I: Integrator> Pass<'_, I> {
                                         continue;
                                     }
                                     let l = film_response(splat.l, film_scale, max_component);
-                                    self.acc.splat_light(splat.film, l, &f1, radius, inv_integral);
+                                    if let Some(splatter) = &splatter {
+                                        splatter.splat(self.acc, splat.film, l);
+                                    }
                                 }
                             } else {
                                 self.integrator.li_lanes(

@@ -58,7 +58,7 @@ use crate::light::{Emitter, Falloff, Light};
 use crate::medium::{MediumEvent, MediumId};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
-use vertex::{infinite_light_density, sample_context, Context, Vertex, VertexKind};
+use vertex::{infinite_light_density, sample_context, shading_normal_correction, Context, Vertex, VertexKind};
 
 /// Bidirectional path tracing with multiple importance sampling over every
 /// strategy (see the module docs).
@@ -76,13 +76,21 @@ pub struct BdptIntegrator {
     /// The scene's finite bounds, where lights at infinity start their
     /// rays from ([`crate::light::Emitter::sample_le`]).
     bounds: crate::geometry::Bounds3,
+    /// The centre of the sphere around `bounds`.
+    centre: Vec3,
+    /// Whether the scene may have surfaces that rays pass through
+    /// ([`super::path::may_have_interfaces`]).
+    interfaces: bool,
 }
 
 impl BdptIntegrator {
     /// A bidirectional path tracer for `scene`, with paths of at most
     /// `max_depth` scattering vertices.
     pub fn new(scene: &Scene, max_depth: u32) -> Self {
-        Self { max_depth, only_strategy: None, bounds: scene.bounds() }
+        let bounds = scene.bounds();
+        let centre =
+            if bounds.is_empty() || bounds.is_infinite() { Vec3::ZERO } else { 0.5 * (bounds.min + bounds.max) };
+        Self { max_depth, only_strategy: None, bounds, centre, interfaces: super::path::may_have_interfaces(scene) }
     }
 
     /// This integrator with only strategy `(s, t)`, unweighted (see
@@ -92,7 +100,13 @@ impl BdptIntegrator {
     }
 
     fn context<'a>(&self, scene: &'a Scene) -> Context<'a> {
-        Context { scene, bounds: self.bounds, radius: crate::light::scene_radius(&self.bounds) }
+        Context {
+            scene,
+            bounds: self.bounds,
+            radius: crate::light::scene_radius(&self.bounds),
+            centre: self.centre,
+            interfaces: self.interfaces,
+        }
     }
 }
 
@@ -116,16 +130,43 @@ impl Integrator for BdptIntegrator {
         splats: &mut Vec<FilmSplat>,
         stats: &mut RayStats,
     ) -> Color {
+        // The subpaths' vertices, in buffers each thread keeps (a vertex
+        // holds a surface interaction and a BSDF: hundreds of bytes).
+        thread_local! {
+            static SUBPATHS: std::cell::RefCell<(Vec<Vertex>, Vec<Vertex>)> = const { std::cell::RefCell::new((Vec::new(), Vec::new())) };
+        }
+        SUBPATHS.with(|buffers| {
+            let (camera, light) = &mut *buffers.borrow_mut();
+            camera.clear();
+            light.clear();
+            self.li_subpaths(scene, ray, sampler, splats, stats, camera, light)
+        })
+    }
+}
+
+impl BdptIntegrator {
+    /// [`Integrator::li_splat`] with the subpaths' buffers.
+    #[allow(clippy::too_many_arguments)]
+    fn li_subpaths(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        sampler: &mut Sampler,
+        splats: &mut Vec<FilmSplat>,
+        stats: &mut RayStats,
+        camera: &mut Vec<Vertex>,
+        light: &mut Vec<Vertex>,
+    ) -> Color {
         let ctx = self.context(scene);
         let depth = self.max_depth as usize;
-        let mut camera = Vec::with_capacity(depth + 2);
-        let mut light = Vec::with_capacity(depth + 1);
         stats.camera += 1;
-        let mut radiance = camera_subpath(&ctx, ray, sampler, depth + 2, &mut camera, stats);
-        light_subpath(&ctx, sampler, depth + 1, &mut light, stats);
+        let mut radiance = camera_subpath(&ctx, ray, sampler, depth + 2, camera, stats);
+        light_subpath(&ctx, sampler, depth + 1, light, stats);
         let has_importance = scene.camera().has_importance();
         for t in 1..=camera.len() {
-            for s in 0..=light.len() {
+            // Next-event estimation (s = 1) samples its own light point: it
+            // runs even when the light subpath could not start.
+            for s in 0..=light.len().max(1) {
                 let path_depth = s as i64 + t as i64 - 2;
                 if (s == 1 && t == 1) || path_depth < 0 || path_depth > depth as i64 {
                     continue;
@@ -137,7 +178,7 @@ impl Integrator for BdptIntegrator {
                 if only == Some(false) {
                     continue;
                 }
-                match connect(&ctx, &light, &camera, s, t, only.is_none(), sampler, stats) {
+                match connect(&ctx, light, camera, s, t, only.is_none(), sampler, stats) {
                     Some(Connection { l, film: Some(film) }) => splats.push(FilmSplat { film, l }),
                     Some(Connection { l, film: None }) => radiance += l,
                     None => {}
@@ -172,11 +213,13 @@ fn camera_subpath(
     let ray = Ray::new(ray.origin, ray.dir.normalize());
     let camera = ctx.scene.camera();
     let mut start = Vertex::camera(ray.origin, Color::ONE, ctx.scene.camera_medium());
-    // A camera without importance takes no part in connections: mark its
-    // endpoint degenerate, so that no weight counts the t = 1 strategies.
-    start.delta = !camera.has_importance();
-    path.push(start);
     let (_, pdf_dir) = camera.pdf_importance_from(ray.origin, ray.dir);
+    // A camera without importance takes no part in connections, and no
+    // connection to the lens could make a ray that leaves from outside the
+    // image (filter importance sampling places some there): mark the
+    // endpoint degenerate, so that no weight counts the t = 1 strategies.
+    start.delta = !camera.has_importance() || pdf_dir == 0.0;
+    path.push(start);
     random_walk(
         ctx,
         ray,
@@ -263,17 +306,21 @@ fn light_subpath(
     }
 }
 
-/// The medium a light's ray starts in: the one on the side it arrives from
-/// at the first boundary between media it meets (passing surfaces that
-/// separate nothing), else the camera's.
+/// The medium a light's ray starts in: the one on the side of its origin
+/// at the first boundary between media the ray meets ahead (passing
+/// surfaces that separate nothing), or else behind its origin; the camera's
+/// when there is no boundary either way (a medium that fills the world).
 fn light_ray_medium(scene: &Scene, ray: &Ray) -> Option<MediumId> {
-    let mut ray = *ray;
-    for _ in 0..MAX_INTERFACE_SKIPS {
-        let Some(hit) = scene.intersect(&ray, f32::INFINITY) else { break };
-        if hit.media.is_transition() {
-            return hit.media.medium_along(-ray.dir, hit.n);
+    for dir in [ray.dir, -ray.dir] {
+        let mut r = Ray::new(ray.origin, dir);
+        for _ in 0..MAX_INTERFACE_SKIPS {
+            let Some(hit) = scene.intersect(&r, f32::INFINITY) else { break };
+            if hit.media.is_transition() {
+                // The origin's side is the one the search ray came from.
+                return hit.media.medium_along(-dir, hit.n);
+            }
+            r = hit.spawn_ray(dir);
         }
-        ray = hit.spawn_ray(ray.dir);
     }
     scene.camera_medium()
 }
@@ -405,20 +452,6 @@ fn random_walk(
     emitted
 }
 
-/// Veach's correction of the adjoint BSDF for shading normals (Veach 1997,
-/// §5.3, eq. 5.19): `|wo·ns| |wi·ng| / (|wo·ng| |wi·ns|)`, so that light
-/// subpaths carry importance exactly where shading and geometric normals
-/// differ.
-fn shading_normal_correction(si: &crate::interaction::SurfaceInteraction, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
-    let num = wo.dot(ns).abs() * wi.dot(si.n).abs();
-    let den = wo.dot(si.n).abs() * wi.dot(ns).abs();
-    if den == 0.0 {
-        0.0
-    } else {
-        num / den
-    }
-}
-
 /// The transmittance between two vertices (zero when a surface blocks the
 /// way), tracing from `from` towards `to`'s position.
 fn transmittance(ctx: &Context, from: &Vertex, to: &Vertex, stats: &mut RayStats) -> Color {
@@ -428,21 +461,34 @@ fn transmittance(ctx: &Context, from: &Vertex, to: &Vertex, stats: &mut RayStats
         Some(si) if si.media.is_transition() => si.media.medium_along(target - from.p, si.n),
         _ => from.medium,
     };
-    if to.infinite {
+    let (ray, t_max, target) = if to.infinite {
         // Towards a light at infinity: nothing may block the way out.
         let dir = (target - from.p).normalize_or_zero();
         let ray = match &from.si {
             Some(si) => si.spawn_ray(dir),
             None => Ray::new(from.p, dir),
         };
-        return super::path::shadow_transmittance(ctx.scene, ray, f32::INFINITY, None, medium);
-    }
-    // The far end, if on a surface, is kept out by `t_max` just short of it.
-    let (ray, t_max) = match &from.si {
-        Some(si) => si.spawn_ray_to(target),
-        None => (Ray::new(from.p, target - from.p), 1.0 - SHADOW_EPSILON),
+        (ray, f32::INFINITY, None)
+    } else {
+        // The far end, if on a surface, is kept out by `t_max` just short
+        // of it.
+        let (ray, t_max) = match &from.si {
+            Some(si) => si.spawn_ray_to(target),
+            None => (Ray::new(from.p, target - from.p), 1.0 - SHADOW_EPSILON),
+        };
+        (ray, t_max, Some(target))
     };
-    super::path::shadow_transmittance(ctx.scene, ray, t_max, Some(target), medium)
+    // Without media, an any-hit query settles most shadow rays; only a
+    // blocked ray in a scene with interfaces needs the walk through them.
+    if !ctx.scene.has_media() {
+        if !ctx.scene.intersect_p(&ray, t_max) {
+            return Color::ONE;
+        }
+        if !ctx.interfaces {
+            return Color::ZERO;
+        }
+    }
+    super::path::shadow_transmittance(ctx.scene, ray, t_max, target, medium)
 }
 
 /// The generalised geometry term between two vertices (PBRT 3rd ed.
@@ -600,6 +646,11 @@ struct Densities {
     fwd: f32,
     rev: f32,
     delta: bool,
+    /// Whether `rev` is zero because no strategy from the other side can
+    /// make this vertex (a light at infinity's rays never reach it), not
+    /// because of a delta lobe: the strategies that need it then get no
+    /// weight (rather than the `0 → 1` remapping of delta densities).
+    unreachable: bool,
 }
 
 /// Most vertices of a subpath the weights handle without allocating.
@@ -617,10 +668,16 @@ fn mis_weight(ctx: &Context, light: &[Vertex], camera: &[Vertex], sampled: Optio
     }
     // The path's vertices as this strategy made them: the sampled endpoint
     // in place of the subpath's own.
-    let vertex_l = |i: usize| if s == 1 && i == 0 { sampled.unwrap_or(&light[0]) } else { &light[i] };
-    let vertex_c = |i: usize| if t == 1 && i == 0 { sampled.unwrap_or(&camera[0]) } else { &camera[i] };
-    let mut lbuf = [Densities { fwd: 0.0, rev: 0.0, delta: false }; INLINE_VERTICES];
-    let mut cbuf = [Densities { fwd: 0.0, rev: 0.0, delta: false }; INLINE_VERTICES];
+    let vertex_l = |i: usize| match sampled {
+        Some(v) if s == 1 && i == 0 => v,
+        _ => &light[i],
+    };
+    let vertex_c = |i: usize| match sampled {
+        Some(v) if t == 1 && i == 0 => v,
+        _ => &camera[i],
+    };
+    let mut lbuf = [Densities { fwd: 0.0, rev: 0.0, delta: false, unreachable: false }; INLINE_VERTICES];
+    let mut cbuf = [Densities { fwd: 0.0, rev: 0.0, delta: false, unreachable: false }; INLINE_VERTICES];
     let mut lheap = Vec::new();
     let mut cheap = Vec::new();
     let ld: &mut [Densities] = if s <= INLINE_VERTICES {
@@ -637,11 +694,11 @@ fn mis_weight(ctx: &Context, light: &[Vertex], camera: &[Vertex], sampled: Optio
     };
     for (i, d) in ld.iter_mut().enumerate() {
         let v = vertex_l(i);
-        *d = Densities { fwd: v.pdf_fwd, rev: v.pdf_rev, delta: v.delta };
+        *d = Densities { fwd: v.pdf_fwd, rev: v.pdf_rev, delta: v.delta, unreachable: false };
     }
     for (i, d) in cd.iter_mut().enumerate() {
         let v = vertex_c(i);
-        *d = Densities { fwd: v.pdf_fwd, rev: v.pdf_rev, delta: v.delta };
+        *d = Densities { fwd: v.pdf_fwd, rev: v.pdf_rev, delta: v.delta, unreachable: false };
     }
     let qs = (s > 0).then(|| vertex_l(s - 1));
     let pt = (t > 0).then(|| vertex_c(t - 1));
@@ -660,12 +717,15 @@ fn mis_weight(ctx: &Context, light: &[Vertex], camera: &[Vertex], sampled: Optio
             Some(qs) => qs.pdf(ctx, qs_minus, pt),
             None => pt_minus.map_or(0.0, |pm| pt.pdf_light_origin(ctx, pm)),
         };
+        // A sampled point at infinity whose rays cannot reach pt.
+        cd[t - 1].unreachable = qs.is_some_and(|qs| qs.infinite) && cd[t - 1].rev == 0.0;
     }
     if let (Some(pt), Some(pm)) = (pt, pt_minus) {
         cd[t - 2].rev = match qs {
             Some(qs) => pt.pdf(ctx, Some(qs), pm),
             None => pt.pdf_light(ctx, pm),
         };
+        cd[t - 2].unreachable = qs.is_none() && pt.infinite && cd[t - 2].rev == 0.0;
     }
     if let (Some(qs), Some(pt)) = (qs, pt) {
         ld[s - 1].rev = pt.pdf(ctx, pt_minus, qs);
@@ -678,6 +738,9 @@ fn mis_weight(ctx: &Context, light: &[Vertex], camera: &[Vertex], sampled: Optio
     // Strategies with more light vertices (the camera subpath shorter).
     let mut r = 1.0f32;
     for i in (1..t).rev() {
+        if cd[i].unreachable {
+            break;
+        }
         r *= remap(cd[i].rev) / remap(cd[i].fwd);
         if !cd[i].delta && !cd[i - 1].delta {
             sum += r;

@@ -82,6 +82,10 @@ pub(super) struct Context<'a> {
     pub bounds: Bounds3,
     /// Radius of the scene's bounding sphere ([`Emitter::sample_le`]'s).
     pub radius: f32,
+    /// Its centre.
+    pub centre: Vec3,
+    /// Whether the scene may have surfaces that rays pass through.
+    pub interfaces: bool,
 }
 
 impl Context<'_> {
@@ -176,11 +180,22 @@ impl Vertex {
 
     /// The scattering function for light leaving towards the previous
     /// vertex and arriving from `next` (BSDF or phase function; zero at
-    /// endpoints), for the quantity `mode` transports.
+    /// endpoints), for the quantity `mode` transports: for importance, with
+    /// the correction for shading normals that light subpaths carry
+    /// ([`shading_normal_correction`]; as pbrt-v3's `Vertex::f`).
     pub fn f(&self, next: &Vertex, mode: TransportMode) -> Color {
         let wi = (next.p - self.p).normalize_or_zero();
         match self.kind {
-            VertexKind::Surface => self.bsdf.map_or(Color::ZERO, |b| b.f_mode(self.wo, wi, mode)),
+            VertexKind::Surface => match (self.bsdf, &self.si) {
+                (Some(b), Some(si)) => {
+                    let f = b.f_mode(self.wo, wi, mode);
+                    match mode {
+                        TransportMode::Radiance => f,
+                        TransportMode::Importance => f * shading_normal_correction(si, self.ns, self.wo, wi),
+                    }
+                }
+                _ => Color::ZERO,
+            },
             VertexKind::Medium => Color::splat(self.phase.map_or(0.0, |ph| ph.p(self.wo, wi))),
             _ => Color::ZERO,
         }
@@ -232,7 +247,9 @@ impl Vertex {
     /// emits towards `v` (pbrt-v4's `Vertex::PdfLight`): the emission's
     /// direction density over `d²` times the cosine at `v`, or, for a light
     /// at infinity, the density of the ray's origin on the disk that
-    /// emission sampling places across the scene.
+    /// emission sampling places across the scene's bounding sphere: zero
+    /// for a point outside the cylinder those rays sweep (on an infinite
+    /// plane, far away), which no light subpath reaches.
     pub fn pdf_light(&self, ctx: &Context, v: &Vertex) -> f32 {
         let Some(index) = self.light_index() else { return 0.0 };
         let w = v.p - self.p;
@@ -242,6 +259,10 @@ impl Vertex {
         }
         let w = w / d2.sqrt();
         let mut pdf = if self.infinite {
+            let c = v.p - ctx.centre;
+            if (c - w * c.dot(w)).length_squared() > ctx.radius * ctx.radius {
+                return 0.0;
+            }
             1.0 / (PI * ctx.radius * ctx.radius)
         } else {
             let (_, pdf_dir) = ctx.lights().emitters()[index].pdf_le(self.p, self.n, w, &ctx.bounds);
@@ -288,6 +309,20 @@ impl Vertex {
             },
             Emitter::Delta(_) => Color::ZERO,
         }
+    }
+}
+
+/// Veach's correction of the adjoint BSDF for shading normals (Veach 1997,
+/// §5.3, eq. 5.19): `|wo·ns| |wi·ng| / (|wo·ng| |wi·ns|)`, so that light
+/// subpaths carry importance exactly where shading and geometric normals
+/// differ.
+pub(super) fn shading_normal_correction(si: &SurfaceInteraction, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
+    let num = wo.dot(ns).abs() * wi.dot(si.n).abs();
+    let den = wo.dot(si.n).abs() * wi.dot(ns).abs();
+    if den == 0.0 {
+        0.0
+    } else {
+        num / den
     }
 }
 
