@@ -24,7 +24,7 @@ scenes=(
   transform-sphere transform-group
   materials falloff shadows spotlight
   bunny bunnies
-  media
+  media caustic
 )
 
 start=$SECONDS
