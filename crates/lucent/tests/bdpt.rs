@@ -10,23 +10,8 @@ use lucent::loader::{ImageDimension, SampleCount};
 use lucent::prelude::*;
 use lucent::render::{render_into, render_into_with, render_partial, IntegratorKind};
 
-fn scene(body: &str) -> LoadedScene {
-    parse_scene(body, SceneFormat::Toml).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// Mean of every channel of every pixel, and the largest deviation of a
-/// pixel's channel from `expected`.
-fn stats(film: &Film, expected: f32) -> (f64, f32) {
-    let mut sum = 0.0f64;
-    let mut worst = 0.0f32;
-    for c in film.pixels() {
-        for v in c.to_array() {
-            sum += v as f64;
-            worst = worst.max((v - expected).abs());
-        }
-    }
-    (sum / (film.pixels().len() * 3) as f64, worst)
-}
+mod common;
+use common::{film_stats, scene};
 
 /// The camera inside a closed sphere of albedo ρ = ½ whose inside emits
 /// Lₑ = ½: with at most `d` scattering vertices every pixel sees
@@ -64,7 +49,7 @@ fn closed_emissive_sphere_sums_every_bounce() {
     assert_eq!(s.settings.integrator, IntegratorKind::Bdpt);
     let film = render(&s.scene, &s.settings, RenderOptions::default()).unwrap().film;
     let expected = 0.5 * (1.0 + 0.5 + 0.25 + 0.125);
-    let (mean, worst) = stats(&film, expected);
+    let (mean, worst) = film_stats(&film, expected);
     assert!((mean - expected as f64).abs() < 5e-3 * expected as f64, "image mean {mean}, expected {expected}");
     assert!(worst < 0.1 * expected, "a pixel is {worst} away from {expected}");
 }
@@ -79,7 +64,7 @@ fn every_strategy_alone_converges_to_the_same_image() {
         let integrator = BdptIntegrator::new(&s.scene, 2).with_only_strategy(sv, t);
         let mut acc = Accumulator::with_aovs(16, 12, AovSet::NONE.with_light_image()).unwrap();
         render_into_with(&s.scene, &s.settings, &integrator, &mut acc, RenderOptions::default()).unwrap();
-        let (mean, _) = stats(&acc.to_film(), expected);
+        let (mean, _) = film_stats(&acc.to_film(), expected);
         assert!(
             (mean - expected as f64).abs() < 0.02 * expected as f64,
             "strategy s = {sv}, t = {t}: image mean {mean}, expected {expected}"
@@ -168,7 +153,7 @@ fn a_point_light_through_a_pane_is_found_by_light_tracing() {
     assert!((got_all - want_all).abs() < 0.02 * want_all, "image: {got_all} against {want_all}");
     let p = scene(&body("path"));
     let film = render(&p.scene, &p.settings, RenderOptions::default()).unwrap().film;
-    assert_eq!(stats(&film, 0.0).0, 0.0, "the path tracer cannot see a point light through glass");
+    assert_eq!(film_stats(&film, 0.0).0, 0.0, "the path tracer cannot see a point light through glass");
 }
 
 fn small_cornell(integrator: IntegratorKind, spp: u32) -> LoadedScene {

@@ -8,23 +8,8 @@ use lucent::loader::{ImageDimension, SampleCount};
 use lucent::prelude::*;
 use lucent::render::render_into;
 
-fn scene(body: &str) -> LoadedScene {
-    parse_scene(body, SceneFormat::Toml).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// Mean of every channel of every pixel, and the largest deviation of a
-/// pixel's channel from `expected`.
-fn stats(film: &Film, expected: f32) -> (f64, f32) {
-    let mut sum = 0.0f64;
-    let mut worst = 0.0f32;
-    for c in film.pixels() {
-        for v in c.to_array() {
-            sum += v as f64;
-            worst = worst.max((v - expected).abs());
-        }
-    }
-    (sum / (film.pixels().len() * 3) as f64, worst)
-}
+mod common;
+use common::{film_stats, scene};
 
 fn render_path(s: &LoadedScene) -> Film {
     render(&s.scene, &s.settings, RenderOptions::default()).unwrap().film
@@ -57,7 +42,7 @@ fn white_furnace_diffuse_sphere_vanishes() {
         material = "white"
     "#,
     );
-    let (mean, worst) = stats(&render_path(&s), 1.0);
+    let (mean, worst) = film_stats(&render_path(&s), 1.0);
     assert!((mean - 1.0).abs() < 2e-3, "image mean {mean}");
     assert!(worst < 0.05, "a pixel is {worst} away from 1");
 }
@@ -90,7 +75,7 @@ fn closed_emissive_sphere_converges_to_le_over_one_minus_albedo() {
         two_sided = true
     "#,
     );
-    let (mean, worst) = stats(&render_path(&s), 1.0);
+    let (mean, worst) = film_stats(&render_path(&s), 1.0);
     assert!((mean - 1.0).abs() < 5e-3, "image mean {mean}");
     assert!(worst < 0.1, "a pixel is {worst} away from 1");
 }
@@ -128,7 +113,7 @@ fn sphere_light_direct_illumination_is_analytic() {
     "#,
     );
     let expected = 0.5 * 4.0 * (0.5f32 / 2.0).powi(2);
-    let (mean, _) = stats(&render_path(&s), expected);
+    let (mean, _) = film_stats(&render_path(&s), expected);
     assert!((mean as f32 - expected).abs() < 0.01 * expected, "mean {mean}, expected {expected}");
 }
 
@@ -196,17 +181,17 @@ fn furnace_for_conductors_and_dielectrics() {
         "#
         ))
     };
-    let (mean, worst) = stats(&render_path(&furnace("conductor = { color = [1, 1, 1] }")), 1.0);
+    let (mean, worst) = film_stats(&render_path(&furnace("conductor = { color = [1, 1, 1] }")), 1.0);
     assert!((mean - 1.0).abs() < 1e-4 && worst < 1e-3, "mirror: mean {mean}, worst {worst}");
-    let (mean, worst) = stats(&render_path(&furnace("dielectric = { eta = 1.5 }")), 1.0);
+    let (mean, worst) = film_stats(&render_path(&furnace("dielectric = { eta = 1.5 }")), 1.0);
     assert!((mean - 1.0).abs() < 5e-3 && worst < 0.1, "glass: mean {mean}, worst {worst}");
-    let (mean, _) = stats(&render_path(&furnace("conductor = { color = [1, 1, 1], roughness = 0.5 }")), 1.0);
+    let (mean, _) = film_stats(&render_path(&furnace("conductor = { color = [1, 1, 1], roughness = 0.5 }")), 1.0);
     // Single-scattering GGX at α = 0.5 keeps 69–86% of the light depending
     // on the angle (bsdf tests): the sphere's mean is in that range.
     assert!(mean <= 1.0 + 2e-3 && mean > 0.75, "rough metal: mean {mean}");
-    let (mean, _) = stats(&render_path(&furnace("dielectric = { eta = 1.5, roughness = 0.3 }")), 1.0);
+    let (mean, _) = film_stats(&render_path(&furnace("dielectric = { eta = 1.5, roughness = 0.3 }")), 1.0);
     assert!(mean <= 1.0 + 5e-3 && mean > 0.85, "rough glass: mean {mean}");
-    let (mean, _) = stats(&render_path(&furnace("plastic = { color = [1, 1, 1] }")), 1.0);
+    let (mean, _) = film_stats(&render_path(&furnace("plastic = { color = [1, 1, 1] }")), 1.0);
     assert!(mean <= 1.0 + 5e-3 && mean > 0.85, "plastic: mean {mean}");
 }
 
@@ -319,10 +304,10 @@ fn max_indirect_removes_only_indirect_light() {
         emission = [0.5, 0.5, 0.5]
         two_sided = true
     "#;
-    let (mean, _) = stats(&render_path(&scene(&body.replace("CLAMP", "max_indirect = 1e-9"))), 0.75);
+    let (mean, _) = film_stats(&render_path(&scene(&body.replace("CLAMP", "max_indirect = 1e-9"))), 0.75);
     assert!((mean - 0.75).abs() < 5e-3, "direct light only: image mean {mean}");
     let plain = render_path(&scene(&body.replace("CLAMP", "")));
     assert_eq!(render_path(&scene(&body.replace("CLAMP", "max_indirect = 1e6"))), plain);
-    let (mean, _) = stats(&plain, 1.0);
+    let (mean, _) = film_stats(&plain, 1.0);
     assert!((mean - 1.0).abs() < 5e-3, "unclamped: image mean {mean}");
 }

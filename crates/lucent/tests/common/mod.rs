@@ -377,3 +377,22 @@ impl Ellipsoid {
         self.centre + DVec3::new(l11 * u.x, l21 * u.x + l22 * u.y, l31 * u.x + l32 * u.y + l33 * u.z)
     }
 }
+
+/// A scene from TOML text, panicking with the loader's message.
+pub fn scene(body: &str) -> LoadedScene {
+    parse_scene(body, SceneFormat::Toml).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Mean of every channel of every pixel, and the largest deviation of a
+/// pixel's channel from `expected`.
+pub fn film_stats(film: &Film, expected: f32) -> (f64, f32) {
+    let mut sum = 0.0f64;
+    let mut worst = 0.0f32;
+    for c in film.pixels() {
+        for v in c.to_array() {
+            sum += v as f64;
+            worst = worst.max((v - expected).abs());
+        }
+    }
+    (sum / (film.pixels().len() * 3) as f64, worst)
+}

@@ -558,16 +558,8 @@ fn connect(
         if is.pdf <= 0.0 || is.we <= 0.0 {
             return None;
         }
-        let mut cam = Vertex::camera(is.p_lens, Color::splat(is.we / is.pdf), scene.camera_medium());
-        cam.n = Vec3::ZERO;
-        let mut l = qs.beta * qs.f(&cam, TransportMode::Importance) * cam.beta;
-        if qs.is_on_surface() {
-            l *= is.wi.dot(qs.ns).abs();
-        }
-        if l.max_element() <= 0.0 {
-            return None;
-        }
-        l *= transmittance_either(ctx, qs, &cam, stats);
+        let cam = Vertex::camera(is.p_lens, Color::splat(is.we / is.pdf), scene.camera_medium());
+        let l = join_endpoint(ctx, qs, &cam, is.wi, TransportMode::Importance, stats)?;
         film = Some(is.film);
         sampled = Some(cam);
         l
@@ -601,14 +593,7 @@ fn connect(
         let mut lv = Vertex::light(index, p_light, n_light, infinite, ls.l / (ls.pdf * pmf), 0.0);
         lv.medium = pt.medium;
         lv.pdf_fwd = lv.pdf_light_origin(ctx, pt);
-        let mut l = pt.beta * pt.f(&lv, TransportMode::Radiance) * lv.beta;
-        if pt.is_on_surface() {
-            l *= ls.wi.dot(pt.ns).abs();
-        }
-        if l.max_element() <= 0.0 {
-            return None;
-        }
-        l *= transmittance(ctx, pt, &lv, stats);
+        let l = join_endpoint(ctx, pt, &lv, ls.wi, TransportMode::Radiance, stats)?;
         sampled = Some(lv);
         l
     } else {
@@ -630,14 +615,27 @@ fn connect(
     Some(Connection { l: l * w, film })
 }
 
-/// The transmittance between a vertex and the camera lens, traced from
-/// whichever end has a surface to offset from.
-fn transmittance_either(ctx: &Context, v: &Vertex, camera: &Vertex, stats: &mut RayStats) -> Color {
-    if v.si.is_some() {
-        transmittance(ctx, v, camera, stats)
-    } else {
-        transmittance(ctx, camera, v, stats)
+/// The contribution of joining subpath vertex `v` to an endpoint `e`
+/// sampled from it (a point on the lens for `t = 1`, on a light for
+/// `s = 1`) in unit direction `wi`: `β_v · f_v · |cos θ_v| · β_e` times the
+/// transmittance between them, traced from `v` (a surface or medium point:
+/// the sampled endpoint may lie on a light's surface). `None` when zero.
+fn join_endpoint(
+    ctx: &Context,
+    v: &Vertex,
+    e: &Vertex,
+    wi: Vec3,
+    mode: TransportMode,
+    stats: &mut RayStats,
+) -> Option<Color> {
+    let mut l = v.beta * v.f(e, mode) * e.beta;
+    if v.is_on_surface() {
+        l *= wi.dot(v.ns).abs();
     }
+    if l.max_element() <= 0.0 {
+        return None;
+    }
+    Some(l * transmittance(ctx, v, e, stats))
 }
 
 /// The densities MIS works with at one vertex.
