@@ -536,8 +536,9 @@ fn connect(
     stats: &mut RayStats,
 ) -> Option<Connection> {
     let scene = ctx.scene;
-    // Emitters found by the camera subpath are counted from its own side
-    // only: a light endpoint at t makes no sense to continue.
+    // A camera subpath that ended on a light at infinity (its last vertex
+    // is that light, not a scattering point) is joined to nothing: only
+    // s = 0 uses it.
     if t > 1 && s != 0 && camera[t - 1].kind != VertexKind::Surface && camera[t - 1].kind != VertexKind::Medium {
         return None;
     }
