@@ -66,12 +66,10 @@ impl WatertightRay {
     /// ray's permuted, translated frame: `(x, y, z)` before the shear.
     #[inline(always)]
     fn translate(&self, v: &[Vec4; 3]) -> (Vec4, Vec4, Vec4) {
-        // SAFETY: `new` sets kx, ky and kz to a permutation of 0, 1, 2.
-        let at = |k: usize| unsafe { *v.get_unchecked(k) };
         (
-            at(self.kx) - Vec4::splat(self.origin_k[0]),
-            at(self.ky) - Vec4::splat(self.origin_k[1]),
-            at(self.kz) - Vec4::splat(self.origin_k[2]),
+            v[self.kx] - Vec4::splat(self.origin_k[0]),
+            v[self.ky] - Vec4::splat(self.origin_k[1]),
+            v[self.kz] - Vec4::splat(self.origin_k[2]),
         )
     }
 }

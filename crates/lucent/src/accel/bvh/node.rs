@@ -16,11 +16,12 @@ pub(super) const GROUPS: usize = WIDTH / 4;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 pub struct BvhNode {
-    /// Lower corners of the children's boxes: `lo[axis][group]` holds the
-    /// coordinate for children `4·group .. 4·group + 4`.
-    pub lo: [[Vec4; GROUPS]; 3],
-    /// Upper corners, likewise.
-    pub hi: [[Vec4; GROUPS]; 3],
+    /// The six slab planes of the children's boxes: `planes[axis][group]`
+    /// holds the lower corners' coordinate `axis` for children
+    /// `4·group .. 4·group + 4`, and `planes[3 + axis][group]` the upper
+    /// corners'. One array, so that a ray's near and far planes are two
+    /// indices into it (`BoxRay`).
+    pub planes: [[Vec4; GROUPS]; 6],
     /// Node index of an interior child, first primitive slot of a leaf.
     pub child: [u32; WIDTH],
     /// Number of primitives of a leaf child; 0 for an interior child or an
@@ -32,8 +33,14 @@ pub struct BvhNode {
 unsafe impl ZeroIsValid for BvhNode {}
 
 pub(super) const EMPTY_NODE: BvhNode = BvhNode {
-    lo: [[Vec4::INFINITY; GROUPS]; 3],
-    hi: [[Vec4::NEG_INFINITY; GROUPS]; 3],
+    planes: [
+        [Vec4::INFINITY; GROUPS],
+        [Vec4::INFINITY; GROUPS],
+        [Vec4::INFINITY; GROUPS],
+        [Vec4::NEG_INFINITY; GROUPS],
+        [Vec4::NEG_INFINITY; GROUPS],
+        [Vec4::NEG_INFINITY; GROUPS],
+    ],
     child: [0; WIDTH],
     count: [0; WIDTH],
 };
@@ -45,29 +52,20 @@ pub const MAX_LEAF_SIZE: usize = 4;
 pub(super) const NODE_LINES: usize = std::mem::size_of::<BvhNode>() / 64;
 
 impl BvhNode {
-    /// The six slab planes of the children: `lo[0..3]` then `hi[0..3]`.
-    #[inline(always)]
-    pub(super) fn planes(&self) -> &[[Vec4; GROUPS]; 6] {
-        // SAFETY: `BvhNode` is `repr(C)` and starts with `lo` immediately
-        // followed by `hi`, both `[[Vec4; GROUPS]; 3]` (no padding between
-        // 16-byte-aligned arrays of 16-byte elements).
-        unsafe { &*(self as *const BvhNode).cast::<[[Vec4; GROUPS]; 6]>() }
-    }
-
     /// The box of child `slot` (empty for an unused slot).
     pub fn child_bounds(&self, slot: usize) -> Bounds3 {
         let (g, l) = (slot / 4, slot % 4);
         Bounds3 {
-            min: Vec3::new(self.lo[0][g][l], self.lo[1][g][l], self.lo[2][g][l]),
-            max: Vec3::new(self.hi[0][g][l], self.hi[1][g][l], self.hi[2][g][l]),
+            min: Vec3::new(self.planes[0][g][l], self.planes[1][g][l], self.planes[2][g][l]),
+            max: Vec3::new(self.planes[3][g][l], self.planes[4][g][l], self.planes[5][g][l]),
         }
     }
 
     pub(super) fn set_child_bounds(&mut self, slot: usize, b: &Bounds3) {
         let (g, l) = (slot / 4, slot % 4);
         for axis in 0..3 {
-            self.lo[axis][g][l] = b.min[axis];
-            self.hi[axis][g][l] = b.max[axis];
+            self.planes[axis][g][l] = b.min[axis];
+            self.planes[3 + axis][g][l] = b.max[axis];
         }
     }
 }

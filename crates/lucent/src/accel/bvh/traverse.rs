@@ -86,7 +86,7 @@ unsafe fn intersect_children_avx(node: &BvhNode, ray: &BoxRay, t_min: f32, t_max
     use std::arch::x86_64::*;
     // A plane is `WIDTH` contiguous floats, 32-byte aligned (`BvhNode` is
     // `repr(C)` and 64-byte aligned, and each plane is 32 bytes).
-    let planes = node.planes().as_ptr().cast::<f32>();
+    let planes = node.planes.as_ptr().cast::<f32>();
     let mut t = [0.0; WIDTH];
     let mut t0 = _mm256_set1_ps(t_min);
     let mut t1 = _mm256_set1_ps(t_max);
@@ -110,16 +110,14 @@ unsafe fn intersect_children_avx(node: &BvhNode, ray: &BoxRay, t_min: f32, t_max
 /// [`intersect_children`] as two four-lane passes, in portable SIMD.
 #[inline(always)]
 fn intersect_children_sse(node: &BvhNode, ray: &BoxRay, t_min: f32, t_max: f32) -> ([f32; WIDTH], u32) {
-    let planes = node.planes();
+    let planes = &node.planes;
     let mut t = [0.0; WIDTH];
     let mut mask = 0;
     for g in 0..GROUPS {
         let mut t0 = Vec4::splat(t_min);
         let mut t1 = Vec4::splat(t_max);
         for axis in 0..3 {
-            // SAFETY: `near` and `far` hold indices below 6 (`BoxRay::new`).
-            let (near, far) =
-                unsafe { (planes.get_unchecked(ray.near[axis])[g], planes.get_unchecked(ray.far[axis])[g]) };
+            let (near, far) = (planes[ray.near[axis]][g], planes[ray.far[axis]][g]);
             // `x.max(acc)` is one SIMD max whose result is `acc` when `x` is
             // NaN (a ray lying in a slab's plane: 0 · ∞), which leaves that
             // slab unconstrained.
