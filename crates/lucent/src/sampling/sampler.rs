@@ -166,7 +166,6 @@ impl Sampler {
                     self.pixel_hash = mix_seed(&[self.seed, x as u64, y as u64]);
                     self.seeds_pixel = Some((x, y));
                     self.seeds.clear();
-                    fill_first_seeds(self.pixel_hash, &mut self.seeds);
                 }
                 self.index_premixed = lk_premix(index.reverse_bits());
             }
@@ -378,63 +377,6 @@ fn dimension_hash(pixel_hash: u64, d: u32) -> [u32; 3] {
     let a = splitmix64(pixel_hash ^ (d as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
     let b = splitmix64(a ^ 0xD1B5_4A32_D192_ED03);
     [a as u32, (a >> 32) as u32, b as u32]
-}
-
-/// How many dimensions' seeds [`fill_first_seeds`] hashes at once when a
-/// sampler moves to a new pixel: about six bounces of a path.
-#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
-const EAGER_DIMENSIONS: usize = 32;
-
-/// Append the scramble seeds of dimensions `0..EAGER_DIMENSIONS` of the
-/// pixel with `pixel_hash` to the empty `seeds`, where the CPU can hash
-/// them eight at a time (AVX-512 multiplies eight 64-bit lanes in one
-/// instruction; without it the seeds are hashed one by one as they are
-/// first drawn, which gives the same values).
-///
-/// A render visits each pixel once per pass and the sampler keeps only
-/// the current pixel's seeds, so the first sample of every pixel in every
-/// pass hashes all the dimensions its path uses: at one sample per pixel
-/// and pass, about 1,150 instructions a sample one by one, about 100 here.
-// (On other CPUs it leaves `seeds` empty, and does not use its `Vec`.)
-#[cfg_attr(not(target_arch = "x86_64"), allow(clippy::ptr_arg))]
-#[inline]
-fn fill_first_seeds(pixel_hash: u64, seeds: &mut Vec<[u32; 3]>) {
-    debug_assert!(seeds.is_empty());
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx512f") && std::arch::is_x86_feature_detected!("avx512dq") {
-        // SAFETY: the CPU has the features the function is compiled for.
-        let hashed = unsafe { dimension_hashes_avx512(pixel_hash) };
-        seeds.extend_from_slice(&hashed);
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = pixel_hash;
-}
-
-/// [`dimension_hashes`] compiled for AVX-512, where the compiler turns its
-/// lane loops into eight-lane vector code.
-///
-/// # Safety
-/// The CPU must have AVX-512F and AVX-512DQ.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2")]
-unsafe fn dimension_hashes_avx512(pixel_hash: u64) -> [[u32; 3]; EAGER_DIMENSIONS] {
-    dimension_hashes(pixel_hash)
-}
-
-/// [`dimension_hash`] of dimensions `0..EAGER_DIMENSIONS`, written as
-/// loops over independent lanes (the same arithmetic, so the same values).
-#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
-#[inline(always)]
-fn dimension_hashes(pixel_hash: u64) -> [[u32; 3]; EAGER_DIMENSIONS] {
-    let mut a = [0u64; EAGER_DIMENSIONS];
-    for (d, a) in a.iter_mut().enumerate() {
-        *a = splitmix64(pixel_hash ^ (d as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
-    }
-    let mut b = [0u64; EAGER_DIMENSIONS];
-    for (b, &a) in b.iter_mut().zip(&a) {
-        *b = splitmix64(a ^ 0xD1B5_4A32_D192_ED03);
-    }
-    std::array::from_fn(|d| [a[d] as u32, (a[d] >> 32) as u32, b[d] as u32])
 }
 
 /// The SplitMix64 output function (Steele, Lea and Flood, "Fast Splittable
@@ -933,31 +875,6 @@ mod tests {
             }
         }
         assert_eq!(s.seeds.len(), MAX_KEPT_DIMENSIONS);
-    }
-
-    /// The seeds hashed eight at a time equal those hashed one by one,
-    /// and a sampler's values do not depend on which way they were made.
-    #[test]
-    fn eager_seeds_equal_lazy_ones() {
-        for pixel_hash in [0, 1, 0xDEAD_BEEF_u64, u64::MAX, mix_seed(&[7, 3, 4])] {
-            let eager = dimension_hashes(pixel_hash);
-            for (d, seeds) in eager.iter().enumerate() {
-                assert_eq!(*seeds, dimension_hash(pixel_hash, d as u32), "dimension {d}");
-            }
-            let mut filled = Vec::new();
-            fill_first_seeds(pixel_hash, &mut filled);
-            assert!(filled.is_empty() || filled[..] == eager[..]);
-        }
-        // A sampler whose table was filled at once gives the values of one
-        // that hashes each dimension as it is drawn.
-        let mut s = Sampler::new(SamplerKind::Sobol, 11, 4);
-        s.start_pixel_sample(5, 9, 2);
-        let eager: Vec<Vec2> = (0..EAGER_DIMENSIONS + 8).map(|_| s.get_2d()).collect();
-        s.seeds.clear();
-        s.seeds_pixel = Some((5, 9));
-        s.start_pixel_sample(5, 9, 2);
-        let lazy: Vec<Vec2> = (0..EAGER_DIMENSIONS + 8).map(|_| s.get_2d()).collect();
-        assert_eq!(eager, lazy);
     }
 
     #[test]
