@@ -64,6 +64,9 @@
 //! ```
 
 #![warn(missing_docs)]
+// Every `unsafe` block says why it is sound (issue 32; the audit of each
+// block is in docs/reliability.md). CI's `-D warnings` makes this an error.
+#![warn(clippy::undocumented_unsafe_blocks)]
 
 // The layers, bottom-up: a module uses only the modules declared before it
 // (tests/layers.rs checks this). Blank lines keep rustfmt from sorting them.

@@ -327,6 +327,68 @@ mod tests {
     /// one node and of several levels) and rays from inside and outside.
     /// (Which build the other tests exercise depends on the CPU; this one
     /// runs every build the CPU has.)
+    /// The portable queries find what each triangle alone finds: the
+    /// nearest hit (distance, triangle, barycentrics) and whether there is
+    /// any. Small enough to run under Miri (`docs/reliability.md`), which
+    /// then checks the `unsafe` code every query and build passes through:
+    /// the traversal's uninitialised stack, the node and triangle arrays on
+    /// mapped pages, the build's unchecked float-to-bin conversion.
+    #[test]
+    fn portable_queries_equal_every_triangle_alone() {
+        // (Under Miri, fewer triangles closer together, so that rays still
+        // hit them.)
+        let (n, rays, spread) = if cfg!(miri) { (24, 60, 1.5) } else { (300, 3000, 4.0) };
+        let mut rng = Pcg32::new(8, 3);
+        let v = |rng: &mut Pcg32, s: f32| {
+            Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * (2.0 * s)
+        };
+        let mut mesh = TriangleMesh::default();
+        for i in 0..n {
+            let c = v(&mut rng, spread);
+            for _ in 0..3 {
+                mesh.positions.push(c + v(&mut rng, 1.0));
+            }
+            let k = 3 * i as u32;
+            mesh.indices.push([k, k + 1, k + 2]);
+        }
+        let bvh = MeshBvh::build(&mesh);
+        let alone: Vec<MeshBvh> = mesh
+            .indices
+            .iter()
+            .map(|&[a, b, c]| {
+                let p = &mesh.positions;
+                MeshBvh::build(&TriangleMesh {
+                    positions: vec![p[a as usize], p[b as usize], p[c as usize]],
+                    indices: vec![[0, 1, 2]],
+                    ..TriangleMesh::default()
+                })
+            })
+            .collect();
+        let mut hits = 0;
+        for _ in 0..rays {
+            // From anywhere around the triangles, towards a point among them.
+            let origin = v(&mut rng, 6.0);
+            let ray = Ray::new(origin, v(&mut rng, spread) - origin);
+            let t_max = if rng.uniform() < 0.3 { rng.uniform() } else { f32::INFINITY };
+            // SAFETY: the portable build needs no CPU feature.
+            let (closest, any) = unsafe {
+                (bvh.intersect_as::<false, 1>(&ray, 0.0, t_max), bvh.occluded_as::<false, 1>(&ray, 0.0, t_max))
+            };
+            let mut expected: Option<MeshHit> = None;
+            for (i, one) in alone.iter().enumerate() {
+                // SAFETY: as above.
+                let hit = unsafe { one.intersect_as::<false, 1>(&ray, 0.0, t_max) };
+                if let Some(h) = hit.filter(|h| expected.is_none_or(|e| h.t < e.t)) {
+                    expected = Some(MeshHit { triangle: i as u32, ..h });
+                }
+            }
+            assert_eq!(closest, expected, "ray {ray:?}");
+            assert_eq!(any, expected.is_some(), "ray {ray:?}");
+            hits += any as usize;
+        }
+        assert!(hits > rays / 10, "only {hits} hits");
+    }
+
     #[test]
     fn simd_queries_equal_portable_ones() {
         #[cfg(target_arch = "x86_64")]
