@@ -8,6 +8,9 @@
 
 #![no_main]
 
+#[macro_use]
+mod common;
+
 use libfuzzer_sys::arbitrary::{self, Arbitrary};
 use std::fmt::Write;
 
@@ -28,18 +31,6 @@ impl Num {
             Num::Raw(_) => "1".to_owned(),
         }
     }
-}
-
-macro_rules! words {
-    ($name:ident { $($variant:ident = $text:literal),* $(,)? }) => {
-        #[derive(Arbitrary, Debug, Clone, Copy)]
-        enum $name { $($variant),* }
-        impl $name {
-            fn text(self) -> &'static str {
-                match self { $($name::$variant => $text),* }
-            }
-        }
-    };
 }
 
 words!(Type {

@@ -11,6 +11,9 @@
 
 #![no_main]
 
+#[macro_use]
+mod common;
+
 use libfuzzer_sys::arbitrary::{self, Arbitrary};
 use toml::{Table, Value};
 
@@ -75,46 +78,45 @@ impl<T: Shape> Shape for Box<T> {
     }
 }
 
-/// Enumerations written as strings: names, kinds, presets.
-macro_rules! words {
-    ($name:ident { $($variant:ident = $text:literal),* $(,)? }) => {
-        #[derive(Arbitrary, Debug, Clone, Copy)]
-        enum $name { $($variant),* }
-        impl $name {
-            fn text(self) -> &'static str {
-                match self { $($name::$variant => $text),* }
+/// Enumerations written as strings: names, kinds, presets ([`words!`],
+/// whose `text` is the string).
+macro_rules! string_words {
+    ($($name:ident { $($body:tt)* });* $(;)?) => {
+        $(
+            words!($name { $($body)* });
+            impl Shape for $name {
+                fn value(&self) -> Value {
+                    Value::String(self.text().to_owned())
+                }
             }
-        }
-        impl Shape for $name {
-            fn value(&self) -> Value {
-                Value::String(self.text().to_owned())
-            }
-        }
+        )*
     };
 }
 
-// Names shared by every kind of table, so that references sometimes meet
-// what they name and sometimes do not (`missing`), or meet a table of
-// another kind.
-words!(Name { A = "a", B = "b", C = "c", Missing = "missing" });
-words!(File { Missing = "missing.png", Hdr = "sky.hdr", Pfm = "map.pfm", Ply = "mesh.ply", Obj = "mesh.obj", Empty = "" });
-words!(Metal { Gold = "gold", Silver = "silver", Copper = "copper", Aluminium = "aluminium", Other = "tin" });
-words!(Preset { Milk = "Wholemilk", Skin = "Skin1", Ketchup = "Ketchup", Unknown = "Fog" });
-words!(Projection { Perspective = "perspective", Orthographic = "orthographic", Spherical = "spherical", Other = "fisheye" });
-words!(SphericalMapping { Equirectangular = "equirectangular", EqualArea = "equal_area" });
-words!(ToneMap { Classic = "classic", Clamp = "clamp", Reinhard = "reinhard", Aces = "aces" });
-words!(Integrator { Whitted = "whitted", Path = "path", Bdpt = "bdpt" });
-words!(Sampler { Stratified = "stratified", Sobol = "sobol", Independent = "independent" });
-words!(FilterKind { Box = "box", Tent = "tent", Gaussian = "gaussian", Mitchell = "mitchell", Lanczos = "lanczos" });
-words!(Aov { Albedo = "albedo", Normal = "normal", Position = "position", Depth = "depth" });
-words!(Falloff { None = "none", InverseSquare = "inverse_square" });
-words!(Normals { File = "file", Smooth = "smooth", Flat = "flat" });
-words!(DefaultUv { Barycentric = "barycentric", Pbrt = "pbrt" });
-words!(Mapping { Uv = "uv", Affine = "affine", Spherical = "spherical", Cylindrical = "cylindrical", Planar = "planar" });
-words!(FilterFunction { Point = "point", Bilinear = "bilinear", Trilinear = "trilinear", Ewa = "ewa" });
-words!(Wrap { Repeat = "repeat", Clamp = "clamp", Black = "black", MirroredRepeat = "mirrored_repeat" });
-words!(Channel { R = "r", G = "g", B = "b", A = "a" });
-words!(Encoding { Linear = "linear", Srgb = "sRGB", Gamma = "gamma 2.2", Other = "log" });
+string_words! {
+    // Names shared by every kind of table, so that references sometimes
+    // meet what they name and sometimes do not (`missing`), or meet a table
+    // of another kind.
+    Name { A = "a", B = "b", C = "c", Missing = "missing" };
+    File { Missing = "missing.png", Hdr = "sky.hdr", Pfm = "map.pfm", Ply = "mesh.ply", Obj = "mesh.obj", Empty = "" };
+    Metal { Gold = "gold", Silver = "silver", Copper = "copper", Aluminium = "aluminium", Other = "tin" };
+    Preset { Milk = "Wholemilk", Skin = "Skin1", Ketchup = "Ketchup", Unknown = "Fog" };
+    Projection { Perspective = "perspective", Orthographic = "orthographic", Spherical = "spherical", Other = "fisheye" };
+    SphericalMapping { Equirectangular = "equirectangular", EqualArea = "equal_area" };
+    ToneMap { Classic = "classic", Clamp = "clamp", Reinhard = "reinhard", Aces = "aces" };
+    Integrator { Whitted = "whitted", Path = "path", Bdpt = "bdpt" };
+    Sampler { Stratified = "stratified", Sobol = "sobol", Independent = "independent" };
+    FilterKind { Box = "box", Tent = "tent", Gaussian = "gaussian", Mitchell = "mitchell", Lanczos = "lanczos" };
+    Aov { Albedo = "albedo", Normal = "normal", Position = "position", Depth = "depth" };
+    Falloff { None = "none", InverseSquare = "inverse_square" };
+    Normals { File = "file", Smooth = "smooth", Flat = "flat" };
+    DefaultUv { Barycentric = "barycentric", Pbrt = "pbrt" };
+    Mapping { Uv = "uv", Affine = "affine", Spherical = "spherical", Cylindrical = "cylindrical", Planar = "planar" };
+    FilterFunction { Point = "point", Bilinear = "bilinear", Trilinear = "trilinear", Ewa = "ewa" };
+    Wrap { Repeat = "repeat", Clamp = "clamp", Black = "black", MirroredRepeat = "mirrored_repeat" };
+    Channel { R = "r", G = "g", B = "b", A = "a" };
+    Encoding { Linear = "linear", Srgb = "sRGB", Gamma = "gamma 2.2", Other = "log" };
+}
 
 /// A texture-valued key: a number, a colour or a texture's name.
 #[derive(Arbitrary, Debug)]
