@@ -377,11 +377,9 @@ table!(SpotLight { position: [Num; 3], direction: [Num; 3], angle: Num;
 table!(DirectionalLight { direction: [Num; 3]; color: [Num; 3], intensity: Num });
 
 // The keys every object may have (`object!` in the loader), and those of
-// an emitter.
-table!(Common { ;
-    name: Name, material: Name, transform: Vec<Op>, alpha: Tex, medium_inside: Name, medium_outside: Name,
-    emission: [Num; 3], two_sided: bool, reverse_orientation: bool, emission_texture: Name,
-});
+// an emitter (`emissive_object!`: every object but the plane).
+table!(Common { ; name: Name, material: Name, transform: Vec<Op>, alpha: Tex, medium_inside: Name, medium_outside: Name });
+table!(Emitter { ; emission: [Num; 3], two_sided: bool, reverse_orientation: bool, emission_texture: Name });
 table!(SphereKeys { center: [Num; 3], radius: Num; z_min: Num, z_max: Num, phi_max: Num });
 table!(DiskKeys { radius: Num; height: Num, inner_radius: Num, phi_max: Num });
 table!(CylinderKeys { radius: Num, z_min: Num, z_max: Num; phi_max: Num });
@@ -391,21 +389,25 @@ table!(QuadKeys { vertices: [[Num; 3]; 4]; });
 table!(MeshKeys { ; mesh: Name, file: File, normals: Normals, default_uv: DefaultUv });
 table!(MeshFile { file: File; normals: Normals, default_uv: DefaultUv });
 
-/// An object: its own keys and the common ones in one table. (Planes,
-/// meshes and instances do not emit; a scene that gives them `emission` is
-/// one the loader must refuse.)
+/// An object: its own keys, the common ones and an emitter's in one
+/// table. (A plane does not emit: a plane with an emitter's keys is a
+/// scene the loader must refuse, with a clear error.)
 #[derive(Arbitrary, Debug)]
 struct Object<K> {
     keys: K,
     common: Common,
+    emitter: Option<Emitter>,
 }
 
 impl<K: Shape> Shape for Object<K> {
     fn value(&self) -> Value {
-        let (Value::Table(mut t), Value::Table(c)) = (self.keys.value(), self.common.value()) else {
-            unreachable!("tables")
-        };
-        t.extend(c);
+        let mut t = Table::new();
+        let parts = [Some(self.keys.value()), Some(self.common.value()), self.emitter.as_ref().map(Shape::value)];
+        for part in parts.into_iter().flatten() {
+            if let Value::Table(part) = part {
+                t.extend(part);
+            }
+        }
         Value::Table(t)
     }
 }
