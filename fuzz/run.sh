@@ -2,7 +2,10 @@
 # Fuzz every reader (or those named) for SECONDS each, two at a time, with
 # the limits of docs/reliability.md: no input may take over a second or
 # 2 GB. Needs the nightly toolchain and cargo-fuzz (`cargo install
-# cargo-fuzz`). Usage: fuzz/run.sh SECONDS [TARGET...]
+# cargo-fuzz`). Usage: [JOBS=N] fuzz/run.sh SECONDS [TARGET...]
+# With JOBS=N (a machine with many cores), each target in turn runs as N
+# libFuzzer jobs sharing its corpus; their logs go to fuzz/logs/TARGET.jobs/
+# and the sum of their executions to fuzz/logs/TARGET.log.
 # Corpora grow in fuzz/corpus/TARGET (not committed), starting from
 # fuzz/seeds/TARGET; crashes land in fuzz/artifacts/TARGET. Each run's last
 # lines (executions, coverage) go to fuzz/logs/TARGET.log.
@@ -20,12 +23,34 @@ if [ ${#targets[@]} -eq 0 ]; then
 fi
 cargo +nightly fuzz build -O
 mkdir -p logs
+jobs=${JOBS:-1}
+flags=(-max_total_time="$seconds" -rss_limit_mb=2048 -timeout=1 -print_final_stats=1 -detect_leaks=0)
+# N jobs of one target: the fuzzer binary run from a folder of its own,
+# where libFuzzer writes one fuzz-K.log per job.
+run_jobs() {
+    local t=$1 bin
+    bin=$PWD/target/$(rustc -vV | sed -n 's/^host: //p')/release/$t
+    mkdir -p "corpus/$t" "logs/$t.jobs" "artifacts/$t"
+    rm -f "logs/$t.jobs"/fuzz-*.log
+    (cd "logs/$t.jobs" && "$bin" "../../corpus/$t" "../../seeds/$t" -jobs="$jobs" -workers="$jobs" \
+        -artifact_prefix="../../artifacts/$t/" "${flags[@]}" >/dev/null 2>&1) ||
+        echo "$t: stopped with a finding (see logs/$t.jobs and artifacts/$t)"
+    cat "logs/$t.jobs"/fuzz-*.log | grep -E "^#[0-9]+.*DONE" >"logs/$t.log" || true
+    local total
+    total=$(grep -h "number_of_executed_units" "logs/$t.jobs"/fuzz-*.log | awk '{s += $2} END {print s + 0}')
+    echo "executed units of $jobs jobs: $total" >>"logs/$t.log"
+    # (and the DONE line of the job with the most coverage)
+    echo "$t: $jobs jobs, $total executions; $(awk '/DONE/ {for (i = 1; i < NF; i++) if ($i == "cov:") c = $(i + 1);
+        if (c > m) {m = c; l = $0}} END {print l}' "logs/$t.log")"
+}
+if [ "$jobs" -gt 1 ]; then
+    for t in "${targets[@]}"; do run_jobs "$t"; done
+    exit 0
+fi
 run() {
     local t=$1
     mkdir -p "corpus/$t"
-    cargo +nightly fuzz run -O "$t" "corpus/$t" "seeds/$t" -- \
-        -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=1 -print_final_stats=1 -detect_leaks=0 \
-        >"logs/$t.log" 2>&1 || echo "$t: stopped with a finding (see logs/$t.log and artifacts/$t)"
+    cargo +nightly fuzz run -O "$t" "corpus/$t" "seeds/$t" -- "${flags[@]}" >"logs/$t.log" 2>&1 || echo "$t: stopped with a finding (see logs/$t.log and artifacts/$t)"
     grep -E "^#[0-9]+.*(DONE|cov:)" "logs/$t.log" | tail -1 | sed "s/^/$t: /"
 }
 for ((i = 0; i < ${#targets[@]}; i += 2)); do
