@@ -78,6 +78,12 @@ impl<T: Shape> Shape for Box<T> {
     }
 }
 
+/// A table of the given keys and values: the tables of one kind key
+/// (`[textures.NAME.KIND]`, `{ translate = [...] }`) and small inline ones.
+fn table_of<const N: usize>(entries: [(&str, Value); N]) -> Value {
+    Value::Table(entries.into_iter().map(|(k, v)| (k.to_owned(), v)).collect())
+}
+
 /// Enumerations written as strings: names, kinds, presets ([`words!`],
 /// whose `text` is the string).
 macro_rules! string_words {
@@ -157,23 +163,11 @@ impl Shape for Op {
             Op::RotateX(a) => ("rotate_x", a.value()),
             Op::RotateY(a) => ("rotate_y", a.value()),
             Op::RotateZ(a) => ("rotate_z", a.value()),
-            Op::Rotate { axis, angle } => {
-                let mut t = Table::new();
-                t.insert("axis".into(), axis.value());
-                t.insert("angle".into(), angle.value());
-                ("rotate", Value::Table(t))
-            }
+            Op::Rotate { axis, angle } => ("rotate", table_of([("axis", axis.value()), ("angle", angle.value())])),
             Op::Matrix(m) => ("matrix", m.value()),
-            Op::Affine(m) => {
-                let mut t = Table::new();
-                t.insert("matrix".into(), m.0.value());
-                t.insert("inverse".into(), m.1.value());
-                ("affine", Value::Table(t))
-            }
+            Op::Affine(m) => ("affine", table_of([("matrix", m.0.value()), ("inverse", m.1.value())])),
         };
-        let mut t = Table::new();
-        t.insert(key.into(), v);
-        Value::Table(t)
+        table_of([(key, v)])
     }
 }
 
@@ -350,9 +344,7 @@ impl Shape for Texture {
             Texture::VertexAlpha(t) => ("vertex_alpha", t.value()),
             Texture::Product(t) => ("product", t.value()),
         };
-        let mut t = Table::new();
-        t.insert(key.into(), v);
-        Value::Table(t)
+        table_of([(key, v)])
     }
 }
 
@@ -364,9 +356,7 @@ struct Medium(Homogeneous);
 
 impl Shape for Medium {
     fn value(&self) -> Value {
-        let mut t = Table::new();
-        t.insert("homogeneous".into(), self.0.value());
-        Value::Table(t)
+        table_of([("homogeneous", self.0.value())])
     }
 }
 
