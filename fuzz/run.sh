@@ -12,8 +12,12 @@
 # Leak detection is off: it doubled the time of an input (LeakSanitizer
 # scans the heap whenever an input's allocations and frees differ), and a
 # leak is not what these campaigns look for; AddressSanitizer stays on.
+# The scene and pbrt-v4 targets write each input to a scratch file, as the
+# command line reads a path: in memory (/dev/shm) a corpus replays 15-23% faster
+# than on disk (scene_grammar, pbrt_files), so it is the default where it exists.
 set -euo pipefail
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
+if [ -z "${TMPDIR:-}" ] && [ -d /dev/shm ] && [ -w /dev/shm ]; then export TMPDIR=/dev/shm; fi
 cd "$(dirname "$0")"
 seconds=${1:?usage: fuzz/run.sh SECONDS [TARGET...]}
 shift

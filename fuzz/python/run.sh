@@ -4,6 +4,9 @@
 # atheris into target/fuzz-venv (from PyPI) on first use.
 # Usage: fuzz/python/run.sh SECONDS
 set -euo pipefail
+# Each input is unpacked into a folder of its own: in memory where possible
+# (see fuzz/run.sh).
+if [ -z "${TMPDIR:-}" ] && [ -d /dev/shm ] && [ -w /dev/shm ]; then export TMPDIR=/dev/shm; fi
 cd "$(dirname "$0")/../.."
 seconds=${1:?usage: fuzz/python/run.sh SECONDS}
 venv=target/fuzz-venv
