@@ -8,6 +8,14 @@
 //! `deny_unknown_fields`; these inputs always parse, so the fuzzer spends
 //! its time on what a scene means: ranges, references between tables,
 //! nested groups and prototypes, emitters, media, textures, integrators.
+//!
+//! The files a scene names (`sky.hdr`, `map.pfm`, `mesh.ply`, `mesh.obj`)
+//! may come with it: each a small valid file of its kind
+//! (`fuzz/templates/`) with some bytes changed and perhaps cut short,
+//! given to the reader as `--- NAME` files ([`lucent::tools::readers::split_files`]).
+//! The byte-level targets fuzz each format alone; this one reaches what a
+//! scene does with what its files hold (textures of odd sizes, meshes
+//! without normals or uvs placed as instances, environment maps).
 
 #![no_main]
 
@@ -462,6 +470,58 @@ impl Shape for Group {
     }
 }
 
+/// The content of a file the scene may name: its kind's template with
+/// bytes changed (`(position, byte)`, positions wrapping) and perhaps cut
+/// to a length.
+#[derive(Arbitrary, Debug)]
+struct Body {
+    edits: Vec<(u16, u8)>,
+    cut: Option<u16>,
+}
+
+impl Body {
+    fn bytes(&self, template: &[u8]) -> Vec<u8> {
+        let mut b = template.to_vec();
+        for &(at, byte) in &self.edits {
+            let i = usize::from(at) % b.len();
+            b[i] = byte;
+        }
+        if let Some(cut) = self.cut {
+            b.truncate(usize::from(cut) % (b.len() + 1));
+        }
+        b
+    }
+}
+
+/// The files that come with the scene (an absent one stays missing).
+#[derive(Arbitrary, Debug)]
+struct Files {
+    hdr: Option<Body>,
+    pfm: Option<Body>,
+    ply: Option<Body>,
+    obj: Option<Body>,
+}
+
+impl Files {
+    /// `--- NAME` files to follow the scene text.
+    fn append_to(&self, out: &mut Vec<u8>) {
+        let files = [
+            ("sky.hdr", &self.hdr, &include_bytes!("../templates/sky.hdr")[..]),
+            ("map.pfm", &self.pfm, &include_bytes!("../templates/map.pfm")[..]),
+            ("mesh.ply", &self.ply, &include_bytes!("../templates/mesh.ply")[..]),
+            ("mesh.obj", &self.obj, &include_bytes!("../templates/mesh.obj")[..]),
+        ];
+        for (name, body, template) in files {
+            let Some(body) = body else { continue };
+            if !out.ends_with(b"\n") {
+                out.push(b'\n');
+            }
+            out.extend_from_slice(format!("--- {name}\n").as_bytes());
+            out.extend_from_slice(&body.bytes(template));
+        }
+    }
+}
+
 #[derive(Arbitrary, Debug)]
 struct Scene {
     camera: Camera,
@@ -476,6 +536,7 @@ struct Scene {
     point_light: Vec<PointLight>,
     spot_light: Vec<SpotLight>,
     directional_light: Vec<DirectionalLight>,
+    files: Files,
     objects: Objects,
 }
 
@@ -530,11 +591,14 @@ fn text(s: &Scene) -> String {
 }
 
 libfuzzer_sys::fuzz_target!(|scene: Scene| {
-    let text = text(&scene);
+    let mut input = text(&scene).into_bytes();
+    scene.files.append_to(&mut input);
     // To turn a finding into a regression file: run the target on it with
-    // LUCENT_FUZZ_PRINT=1 and keep the scene text it prints.
+    // LUCENT_FUZZ_PRINT=1 and keep what it prints (the scene text and its
+    // files) in fuzz/regressions/scene_toml/.
     if std::env::var_os("LUCENT_FUZZ_PRINT").is_some() {
-        eprintln!("{text}");
+        use std::io::Write;
+        let _ = std::io::stderr().write_all(&input);
     }
-    lucent::tools::readers::Reader::SceneToml.feed(text.as_bytes());
+    lucent::tools::readers::Reader::SceneToml.feed(&input);
 });

@@ -78,13 +78,14 @@ fn truncated_and_damaged_seeds_are_refused_without_a_panic() {
 /// content.
 #[test]
 fn multi_file_inputs_split_at_name_lines() {
-    let files = split_files(b"Include \"a.pbrt\"\n--- a.pbrt\nShape \"sphere\"\n--- ../x\n--- b.spd\n400 1\n");
+    let files =
+        split_files("scene.pbrt", b"Include \"a.pbrt\"\n--- a.pbrt\nShape \"sphere\"\n--- ../x\n--- b.spd\n400 1\n");
     let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, ["scene.pbrt", "a.pbrt", "b.spd"]);
     assert_eq!(files[0].1, b"Include \"a.pbrt\"\n");
     assert_eq!(files[1].1, b"Shape \"sphere\"\n--- ../x\n");
     assert_eq!(files[2].1, b"400 1\n");
     let many: Vec<u8> = (0..20).flat_map(|i| format!("--- f{i}\nx\n").into_bytes()).collect();
-    assert_eq!(split_files(&many).len(), lucent::tools::readers::MAX_FILES);
-    assert!(split_files(b"--- .hidden\n")[0].1.starts_with(b"--- .hidden"));
+    assert_eq!(split_files("scene.pbrt", &many).len(), lucent::tools::readers::MAX_FILES);
+    assert!(split_files("scene.toml", b"--- .hidden\n")[0].1.starts_with(b"--- .hidden"));
 }

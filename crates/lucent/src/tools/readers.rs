@@ -26,9 +26,13 @@ pub enum Reader {
     PbrtParse,
     /// A pbrt-v4 scene file imported and rendered ([`import_pbrt`]).
     PbrtImport,
-    /// A TOML scene, built and rendered ([`parse_scene`]).
+    /// A TOML scene, built and rendered ([`parse_scene`]), with the files
+    /// it reads: `--- NAME` lines start other files, as for
+    /// [`Reader::PbrtFiles`] (meshes, image textures, environment maps).
+    /// An input without such lines is the scene alone.
     SceneToml,
-    /// A JSON scene, built and rendered.
+    /// A JSON scene, built and rendered, with its files as
+    /// [`Reader::SceneToml`].
     SceneJson,
     /// PFM images ([`crate::texture::read_pfm`]).
     Pfm,
@@ -109,8 +113,8 @@ impl Reader {
                 Err(_) => false,
             },
             Reader::PbrtImport => open_and_render("scene.pbrt", data),
-            Reader::SceneToml => open_and_render("scene.toml", data),
-            Reader::SceneJson => open_and_render("scene.json", data),
+            Reader::SceneToml => open_files_and_render("scene.toml", data),
+            Reader::SceneJson => open_files_and_render("scene.json", data),
             Reader::Gltf => open_and_render(if data.starts_with(b"glTF") { "scene.glb" } else { "scene.gltf" }, data),
             Reader::Pfm => crate::texture::read_pfm(Path::new("fuzz.pfm"), data).is_ok(),
             Reader::Spd => {
@@ -122,17 +126,7 @@ impl Reader {
                 }
                 true
             }
-            Reader::PbrtFiles => {
-                let files = split_files(data);
-                let dir = scratch_dir("files");
-                // A fresh folder per input: no file of an earlier input is seen.
-                let _ = std::fs::remove_dir_all(&dir);
-                std::fs::create_dir_all(&dir).expect("a scratch folder in the temporary directory");
-                for (name, bytes) in &files {
-                    std::fs::write(dir.join(name), bytes).expect("a scratch file in the temporary directory");
-                }
-                open_and_render_path(&dir.join("scene.pbrt"))
-            }
+            Reader::PbrtFiles => open_files_and_render("scene.pbrt", data),
             Reader::Image => {
                 // Named .tga: TGA, the one format without magic bytes, is
                 // known by its extension; the others by their contents.
@@ -163,13 +157,14 @@ impl Reader {
 /// Most files [`split_files`] makes of one input.
 pub const MAX_FILES: usize = 8;
 
-/// The files of a [`Reader::PbrtFiles`] input: up to the first line
-/// `--- NAME` it is `scene.pbrt`; each such line starts the file `NAME`
-/// (letters, digits, `.`, `_` and `-`, not starting with `.`; a line with
-/// another name is content), up to [`MAX_FILES`] files. Later files of one
-/// name replace earlier ones.
-pub fn split_files(data: &[u8]) -> Vec<(String, Vec<u8>)> {
-    let mut files: Vec<(String, Vec<u8>)> = vec![("scene.pbrt".to_owned(), Vec::new())];
+/// The files of a multi-file input ([`Reader::PbrtFiles`],
+/// [`Reader::SceneToml`], [`Reader::SceneJson`]): up to the first line
+/// `--- NAME` it is the scene, named `scene`; each such line starts the
+/// file `NAME` (letters, digits, `.`, `_` and `-`, not starting with `.`; a
+/// line with another name is content), up to [`MAX_FILES`] files. Later
+/// files of one name replace earlier ones.
+pub fn split_files(scene: &str, data: &[u8]) -> Vec<(String, Vec<u8>)> {
+    let mut files: Vec<(String, Vec<u8>)> = vec![(scene.to_owned(), Vec::new())];
     for line in data.split_inclusive(|&b| b == b'\n') {
         let name = line
             .strip_prefix(b"--- ")
@@ -218,6 +213,23 @@ fn scratch_file(name: &str, data: &[u8]) -> PathBuf {
 /// if it loads, render it and check its pixels.
 fn open_and_render(name: &str, data: &[u8]) -> bool {
     open_and_render_path(&scratch_file(name, data))
+}
+
+/// [`open_and_render`] of the scene `scene` of a multi-file input
+/// ([`split_files`]), its files written beside it.
+fn open_files_and_render(scene: &str, data: &[u8]) -> bool {
+    let files = split_files(scene, data);
+    if files.len() == 1 {
+        return open_and_render(scene, data);
+    }
+    let dir = scratch_dir("files");
+    // A fresh folder per input: no file of an earlier input is seen.
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a scratch folder in the temporary directory");
+    for (name, bytes) in &files {
+        std::fs::write(dir.join(name), bytes).expect("a scratch file in the temporary directory");
+    }
+    open_and_render_path(&dir.join(scene))
 }
 
 /// [`open_and_render`] of a file already written.
