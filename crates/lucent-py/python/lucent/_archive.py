@@ -267,11 +267,18 @@ def _extract(data: bytes, into: str) -> dict:
 def _extract_members(data: bytes, into: str) -> dict:
     tar = tarfile.open(fileobj=io.BytesIO(data), mode="r:")
     with tar:
-        members = tar.getmembers()
+        try:
+            members = tar.getmembers()
+        except ValueError as e:
+            # tarfile reads a negative member size (a base-256 number) and
+            # then fails to seek to the next header ("negative seek value").
+            raise ArchiveError(f"not a scene archive, or a damaged one: {e}") from e
         for m in members:
             _safe_name(m.name)
             if not (m.isfile() or m.isdir()):
                 raise ArchiveError(f"scene archive member is not a plain file: {m.name!r}")
+            if m.size < 0:
+                raise ArchiveError(f"scene archive member {m.name!r} has a negative size ({m.size} bytes)")
         by_name = {m.name: m for m in members if m.isfile()}
         if MANIFEST not in by_name:
             raise ArchiveError("scene archive has no manifest")
