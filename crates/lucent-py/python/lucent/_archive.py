@@ -257,7 +257,13 @@ def _extract(data: bytes, into: str) -> dict:
     member against the manifest; returns the manifest."""
     try:
         return _extract_members(data, into)
-    except (tarfile.TarError, EOFError) as e:
+    except ArchiveError:
+        raise
+    except (tarfile.TarError, EOFError, ValueError, OverflowError) as e:
+        # Besides TarError, tarfile lets damaged headers escape as
+        # ValueError (a negative base-256 member size: "negative seek
+        # value") and OverflowError (a size past 2⁶³: "Python int too large
+        # to convert to C ssize_t").
         raise ArchiveError(f"not a scene archive, or a damaged one: {e}") from e
     except OSError as e:
         # Members that collide on disk (a file and a directory of one name).
@@ -267,12 +273,7 @@ def _extract(data: bytes, into: str) -> dict:
 def _extract_members(data: bytes, into: str) -> dict:
     tar = tarfile.open(fileobj=io.BytesIO(data), mode="r:")
     with tar:
-        try:
-            members = tar.getmembers()
-        except ValueError as e:
-            # tarfile reads a negative member size (a base-256 number) and
-            # then fails to seek to the next header ("negative seek value").
-            raise ArchiveError(f"not a scene archive, or a damaged one: {e}") from e
+        members = tar.getmembers()
         for m in members:
             _safe_name(m.name)
             if not (m.isfile() or m.isdir()):
