@@ -23,6 +23,19 @@ fn files(dir: &Path) -> Vec<PathBuf> {
     out
 }
 
+/// Feed every file of `fuzz/FOLDER/NAME/` to reader `NAME`, accepted or
+/// refused (a panic fails the test); how many there were.
+fn replay(folder: &str) -> usize {
+    let mut count = 0;
+    for reader in Reader::ALL {
+        for file in files(&fuzz_dir().join(folder).join(reader.name())) {
+            let _ = reader.feed(&std::fs::read(&file).unwrap());
+            count += 1;
+        }
+    }
+    count
+}
+
 #[test]
 fn every_reader_accepts_its_seeds() {
     for reader in Reader::ALL {
@@ -38,15 +51,7 @@ fn every_reader_accepts_its_seeds() {
 
 #[test]
 fn inputs_that_once_crashed_a_reader_do_not() {
-    let mut count = 0;
-    for reader in Reader::ALL {
-        for file in files(&fuzz_dir().join("regressions").join(reader.name())) {
-            let data = std::fs::read(&file).unwrap();
-            // Accepted or refused: either is fine, a panic fails the test.
-            let _ = reader.feed(&data);
-            count += 1;
-        }
-    }
+    let count = replay("regressions");
     assert!(count >= 6, "only {count} regression inputs under fuzz/regressions");
     remove_scratch();
 }
@@ -58,14 +63,7 @@ fn inputs_that_once_crashed_a_reader_do_not() {
 /// covered by the normal test suite.
 #[test]
 fn minimised_corpora_replay_without_a_panic() {
-    let mut count = 0;
-    for reader in Reader::ALL {
-        for file in files(&fuzz_dir().join("corpus-min").join(reader.name())) {
-            let data = std::fs::read(&file).unwrap();
-            let _ = reader.feed(&data);
-            count += 1;
-        }
-    }
+    let count = replay("corpus-min");
     assert!(count >= 1000, "only {count} inputs under fuzz/corpus-min");
     remove_scratch();
 }
