@@ -233,6 +233,13 @@ impl Triangle {
 /// uvs are degenerate (the 2×2 determinant vanishes, or the tangents are
 /// parallel) any tangent frame around the unit normal `n` is returned, as
 /// pbrt does.
+///
+/// Inlined: called out of line, its six vectors went through memory,
+/// stored field by field by the caller and loaded in other widths by the
+/// callee, and the loads waited for the failed store forwarding (about 4%
+/// of a Cornell-box render's time; docs/performance.md, thirteenth
+/// sitting).
+#[inline]
 pub fn triangle_dpduv(p: [Vec3; 3], uv: [Vec2; 3], n: Vec3) -> (Vec3, Vec3) {
     let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
     let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
