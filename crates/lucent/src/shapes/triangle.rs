@@ -234,7 +234,7 @@ impl Triangle {
 /// parallel) any tangent frame around the unit normal `n` is returned, as
 /// pbrt does.
 ///
-/// Inlined: called out of line, its six vectors went through memory,
+/// Inlined: called out of line, its seven vectors went through memory,
 /// stored field by field by the caller and loaded in other widths by the
 /// callee, and the loads waited for the failed store forwarding (about 4%
 /// of a Cornell-box render's time; docs/performance.md, thirteenth
