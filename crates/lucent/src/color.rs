@@ -1,8 +1,9 @@
 //! Linear RGB radiance.
 
 /// Linear RGB, in the renderer's working space (the sRGB/Rec.709 primaries).
-/// Values are radiance, not display values: they may exceed 1.
-pub type Color = glam::Vec3;
+/// Values are radiance, not display values: they may exceed 1. The same
+/// 16-byte type as [`crate::geometry::Vec3`], for the same reason.
+pub type Color = glam::Vec3A;
 
 /// Rec. 709 luminance of a linear colour.
 #[inline]

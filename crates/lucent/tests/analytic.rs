@@ -273,7 +273,7 @@ fn spot_light_is_full_on_its_axis_and_dark_outside_its_cone() {
     let Hit::At(t) = ray_sphere(o, d, d3(CENTRE), RADIUS as f64, 1e-4) else { panic!("centre pixel misses") };
     let target = o + t * d;
     let pos = [1.5f32, 2.5, -3.5];
-    let axis = (target - d3(pos)).as_vec3();
+    let axis = (target - d3(pos)).as_vec3a();
     let (angle, delta) = (12.0f32, 3.0f32);
     for falloff in [Falloff::None, Falloff::InverseSquare] {
         let light = Light::spot(v3(pos), axis, light_color(), 6.0, angle, delta, falloff).unwrap();
@@ -317,7 +317,7 @@ fn phong_highlight_peaks_at_the_mirror_configuration() {
     let p = o + t * d;
     let n = (p - d3(CENTRE)).normalize();
     let mirror = reflect(d, n);
-    let pos = (p + 4.0 * mirror).as_vec3();
+    let pos = (p + 4.0 * mirror).as_vec3a();
     let light = Light::point(pos, light_color(), 1.5, Falloff::None).unwrap();
     let material = Material::phong(v3(ALBEDO), KD, ks, exponent, 0.0).unwrap().with_ka(KA).unwrap();
     let (cam, scene) = sphere_scene(material, &[light]);

@@ -23,9 +23,9 @@ fn distance_to_ray(p: DVec3, ray: &Ray) -> f64 {
 fn the_centre_ray_hits_the_look_at_point() {
     let mut rng = Rng::new(1);
     for _ in 0..200 {
-        let eye = (rng.unit() * rng.range(0.5, 100.0)).as_vec3();
-        let look = (rng.unit() * rng.range(0.0, 100.0)).as_vec3();
-        let up = rng.unit().as_vec3();
+        let eye = (rng.unit() * rng.range(0.5, 100.0)).as_vec3a();
+        let look = (rng.unit() * rng.range(0.0, 100.0)).as_vec3a();
+        let up = rng.unit().as_vec3a();
         let fov = rng.range(5.0, 170.0) as f32;
         let (w, h) = (1 + 2 * (rng.f64() * 300.0) as u32, 1 + 2 * (rng.f64() * 300.0) as u32);
         let Ok(cam) = Camera::new(eye, look, up, fov, w, h) else { continue };

@@ -215,7 +215,7 @@ impl Checks {
 // Scene pieces.
 
 fn c3(v: DVec3) -> Color {
-    v.as_vec3()
+    v.as_vec3a()
 }
 
 fn diffuse(b: &mut SceneBuilder, albedo: DVec3) -> MaterialId {
@@ -227,7 +227,7 @@ fn diffuse(b: &mut SceneBuilder, albedo: DVec3) -> MaterialId {
 fn quad(p: [DVec3; 4], front: DVec3) -> [Triangle; 2] {
     let n = (p[1] - p[0]).cross(p[2] - p[0]);
     let p = if n.dot(front) > 0.0 { p } else { [p[3], p[2], p[1], p[0]] };
-    let v = p.map(|x| x.as_vec3());
+    let v = p.map(|x| x.as_vec3a());
     [Triangle::new([v[0], v[1], v[2]], None).unwrap(), Triangle::new([v[0], v[2], v[3]], None).unwrap()]
 }
 
@@ -239,7 +239,7 @@ fn square(c: DVec3, h: f64, front: DVec3) -> [Triangle; 2] {
 }
 
 fn camera(eye: DVec3, look_at: DVec3, up: DVec3, fov: f32, w: u32, h: u32) -> RefCamera {
-    let f = |v: DVec3| v.as_vec3().to_array();
+    let f = |v: DVec3| v.as_vec3a().to_array();
     RefCamera::new(f(eye), f(look_at), f(up), fov, w, h)
 }
 
@@ -486,7 +486,7 @@ fn planes_under_a_non_uniform_environment_map() {
         let cam = camera(3.0 * n, DVec3::ZERO, up, 40.0, 16, 16);
         let mut b = SceneBuilder::new(cam.camera());
         let m = diffuse(&mut b, albedo);
-        b.add_shape(Plane::new(Vec3::ZERO, n.as_vec3()).unwrap(), Transform::IDENTITY, m).unwrap();
+        b.add_shape(Plane::new(Vec3::ZERO, n.as_vec3a()).unwrap(), Transform::IDENTITY, m).unwrap();
         b.set_environment(env.clone()).unwrap();
         let scene = b.build().unwrap();
         let want = albedo / PI * sky.irradiance(n);
@@ -548,7 +548,7 @@ fn delta_lights_on_a_plane() {
     let cases = [
         Case {
             name: "point",
-            light: Light::point(point_pos.as_vec3(), Color::ONE, 6.0, Falloff::InverseSquare).unwrap(),
+            light: Light::point(point_pos.as_vec3a(), Color::ONE, 6.0, Falloff::InverseSquare).unwrap(),
             irradiance: Box::new(move |p: DVec3| {
                 let to = point_pos - p;
                 6.0 * (to.y / to.length()) / to.length_squared()
@@ -557,8 +557,8 @@ fn delta_lights_on_a_plane() {
         Case {
             name: "spot",
             light: Light::spot(
-                spot_pos.as_vec3(),
-                spot_axis.as_vec3(),
+                spot_pos.as_vec3a(),
+                spot_axis.as_vec3a(),
                 Color::ONE,
                 10.0,
                 spot_angle as f32,
@@ -576,7 +576,7 @@ fn delta_lights_on_a_plane() {
         },
         Case {
             name: "directional",
-            light: Light::directional(sun_dir.as_vec3(), Color::ONE, 2.0).unwrap(),
+            light: Light::directional(sun_dir.as_vec3a(), Color::ONE, 2.0).unwrap(),
             irradiance: Box::new(move |_| 2.0 * (-sun_dir.y)),
         },
     ];
@@ -728,7 +728,7 @@ fn several_lights_of_different_power_add_up() {
                     }
                 }
                 Emitter::Ball(c, r, radiance) => {
-                    let s = Sphere::new(c.as_vec3(), *r as f32).unwrap();
+                    let s = Sphere::new(c.as_vec3a(), *r as f32).unwrap();
                     if lit {
                         let emission = Emission {
                             radiance: Color::splat(*radiance as f32),

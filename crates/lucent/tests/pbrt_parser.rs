@@ -805,7 +805,8 @@ fn param_list_accessors_check_types_and_counts() {
     assert_eq!(params.bool("b").unwrap(), Some(true));
     assert_eq!(params.string("name").unwrap(), Some("x"));
     assert_eq!(params.strings("names").unwrap().unwrap(), ["a", "b"]);
-    use glam::{Vec2, Vec3};
+    use glam::Vec2;
+    use lucent::geometry::Vec3;
     assert_eq!(params.point3s("P").unwrap(), Some(vec![Vec3::new(0., 1., 2.), Vec3::new(3., 4., 5.)]));
     assert_eq!(params.point3("p").unwrap(), Some(Vec3::new(7., 8., 9.)));
     assert_eq!(params.vector3("dir").unwrap(), Some(Vec3::Z));

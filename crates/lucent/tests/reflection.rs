@@ -34,7 +34,7 @@ fn nested(terms: &[Color], kr: &[f32]) -> DVec3 {
 /// channel (each of the at most 13 terms is rounded a few times, relative to
 /// a sum of positive terms), plus the film's resolution.
 fn assert_series(got: Color, want: DVec3, what: &str) {
-    let tol = 8.0 * f32::EPSILON as f64 * want.max_element() + film_tolerance(want.as_vec3()) as f64;
+    let tol = 8.0 * f32::EPSILON as f64 * want.max_element() + film_tolerance(want.as_vec3a()) as f64;
     assert!(diff(got, want) <= tol, "{what}: rendered {got}, series {want} (difference {:e})", diff(got, want));
 }
 
@@ -137,7 +137,7 @@ fn a_corner_reflector_returns_the_background_after_three_bounces() {
                     if kr == 1.0 || max_depth < 3 {
                         assert_pixel(
                             got,
-                            expect.as_vec3(),
+                            expect.as_vec3a(),
                             &format!("ka 0, kr {kr}, max_depth {max_depth}, pixel ({x}, {y})"),
                         );
                     }
@@ -183,18 +183,18 @@ impl MirrorScene {
         let mut scene = scene_one_spp(self.cam.camera());
         scene.settings.max_depth = max_depth;
         scene.background = self.background;
-        scene.ambient = self.ambient.as_vec3();
+        scene.ambient = self.ambient.as_vec3a();
         let ball = scene.add_material(
-            Material::matte(self.albedo.as_vec3(), self.kd as f32).unwrap().with_ka(self.ka as f32).unwrap(),
+            Material::matte(self.albedo.as_vec3a(), self.kd as f32).unwrap().with_ka(self.ka as f32).unwrap(),
         );
         let glass = scene.add_material(mirror(Color::ONE, 0.0, self.kr));
         scene.add(Primitive::new(
-            Sphere::new(self.centre.as_vec3(), self.radius as f32).unwrap(),
+            Sphere::new(self.centre.as_vec3a(), self.radius as f32).unwrap(),
             Transform::IDENTITY,
             ball,
         ));
         scene.add(Primitive::new(Plane::new(Vec3::ZERO, Vec3::Y).unwrap(), Transform::IDENTITY, glass));
-        scene.add_light(Light::point(self.light.as_vec3(), Color::ONE, self.intensity as f32, Falloff::None).unwrap());
+        scene.add_light(Light::point(self.light.as_vec3a(), Color::ONE, self.intensity as f32, Falloff::None).unwrap());
         scene
     }
 
@@ -227,7 +227,7 @@ fn a_mirror_shows_kr_times_the_radiance_of_what_it_reflects() {
                 // The sphere seen directly.
                 let Some(want) = s.sphere_radiance(o + t * d) else { continue };
                 assert!(
-                    diff(got, want) < 2e-5 * want.max_element() + film_tolerance(want.as_vec3()) as f64,
+                    diff(got, want) < 2e-5 * want.max_element() + film_tolerance(want.as_vec3a()) as f64,
                     "pixel ({x}, {y}): {got} vs {want}"
                 );
                 direct += 1;
@@ -253,7 +253,7 @@ fn a_mirror_shows_kr_times_the_radiance_of_what_it_reflects() {
                 let Some(radiance) = s.sphere_radiance(p + t * r) else { continue };
                 let want = s.kr as f64 * radiance;
                 assert!(
-                    diff(got, want) < 2e-5 * want.max_element() + film_tolerance(want.as_vec3()) as f64,
+                    diff(got, want) < 2e-5 * want.max_element() + film_tolerance(want.as_vec3a()) as f64,
                     "pixel ({x}, {y}): mirror shows {got}, kr × sphere radiance is {want}"
                 );
                 reflected += 1;

@@ -115,9 +115,9 @@ impl Case {
         };
         // Aim from the origin as rounded to single precision, so the ray
         // really passes through the target.
-        let origin = origin.as_vec3();
+        let origin = origin.as_vec3a();
         let d = (target - origin.as_dvec3()) * rng.log_range(0.1, 10.0);
-        Ray::new(origin, d.as_vec3())
+        Ray::new(origin, d.as_vec3a())
     }
 }
 
@@ -146,7 +146,7 @@ fn check(case: &Case, seed: u64, rays: usize) -> Tally {
 
         // Leaving on the near side, down to grazing angles.
         for _ in 0..4 {
-            let dir = rng.hemisphere(front, 1e-4).as_vec3();
+            let dir = rng.hemisphere(front, 1e-4).as_vec3a();
             let out = si.spawn_ray(dir);
             assert!(scene.intersect(&out, f32::INFINITY).is_none(), "{}", ctx("self-intersection of", &out));
             assert!(!scene.intersect_p(&out, f32::INFINITY), "{}", ctx("self-occlusion of", &out));
@@ -159,7 +159,7 @@ fn check(case: &Case, seed: u64, rays: usize) -> Tally {
         let fuzz = n.abs().dot(si.p_error.as_dvec3());
         for _ in 0..2 {
             let target = loop {
-                let t = (p + rng.hemisphere(front, 0.01) * case.size * rng.log_range(1e-2, 1e3)).as_vec3();
+                let t = (p + rng.hemisphere(front, 0.01) * case.size * rng.log_range(1e-2, 1e3)).as_vec3a();
                 let ulp = f32::EPSILON as f64 * t.abs().max_element() as f64;
                 if (t.as_dvec3() - p).dot(front) > 4.0 * (fuzz + ulp) {
                     break t;
@@ -172,7 +172,7 @@ fn check(case: &Case, seed: u64, rays: usize) -> Tally {
 
         // Into the surface.
         let dir = rng.hemisphere(-front, 0.05);
-        let inward = si.spawn_ray(dir.as_vec3());
+        let inward = si.spawn_ray(dir.as_vec3a());
         match &case.kind {
             Kind::Ellipsoid(e) => {
                 // The ray arrives from outside the closed surface, so the

@@ -114,7 +114,7 @@ fn check_floor(
             tally.dark += 1;
         } else {
             assert!(
-                diff(got, want) <= 2e-5 * want.max_element() + film_tolerance(want.as_vec3()) as f64,
+                diff(got, want) <= 2e-5 * want.max_element() + film_tolerance(want.as_vec3a()) as f64,
                 "pixel ({x}, {y}) at {p}: rendered {got}, expected {want} ({clear} lights visible, {blocked} blocked)"
             );
             tally.lit += 1;
@@ -161,7 +161,7 @@ fn a_blocked_light_leaves_the_ambient_term_and_an_unblocked_one_lights() {
     // One light straight above the occluder: the point under it is dark.
     let (cam, mut scene) = floor_scene();
     let m = gray(&mut scene);
-    scene.add(Primitive::new(Sphere::new(c.as_vec3(), r as f32).unwrap(), Transform::IDENTITY, m));
+    scene.add(Primitive::new(Sphere::new(c.as_vec3a(), r as f32).unwrap(), Transform::IDENTITY, m));
     scene.add_light(Light::point(v3(above), Color::ONE, 1.5, Falloff::None).unwrap());
     let film = render_film(&scene);
     let lights = [RefLight::Point(d3(above), 1.5)];
@@ -188,7 +188,7 @@ fn an_occluder_behind_the_light_casts_no_shadow() {
     let light = [0.0f32, 2.0, 0.0];
     let (cam, mut scene) = floor_scene();
     let m = gray(&mut scene);
-    scene.add(Primitive::new(Sphere::new(c.as_vec3(), r as f32).unwrap(), Transform::IDENTITY, m));
+    scene.add(Primitive::new(Sphere::new(c.as_vec3a(), r as f32).unwrap(), Transform::IDENTITY, m));
     scene.add_light(Light::point(v3(light), Color::ONE, 1.0, Falloff::None).unwrap());
     let film = render_film(&scene);
     let lights = [RefLight::Point(d3(light), 1.0)];
@@ -220,7 +220,7 @@ fn a_plane_beyond_the_light_casts_no_shadow() {
     scene.add(Primitive::new(Plane::new(Vec3::ZERO, Vec3::Y).unwrap(), Transform::IDENTITY, floor));
     scene.add(Primitive::new(Plane::new(Vec3::new(0.0, 4.0, 0.0), -Vec3::Y).unwrap(), Transform::IDENTITY, floor));
     let light = DVec3::new(0.5, 2.0, 1.0);
-    scene.add_light(Light::point(light.as_vec3(), Color::ONE, 2.0, Falloff::InverseSquare).unwrap());
+    scene.add_light(Light::point(light.as_vec3a(), Color::ONE, 2.0, Falloff::InverseSquare).unwrap());
     let film = render_film(&scene);
     let albedo = d3(FLOOR_ALBEDO);
     let (mut floor_px, mut ceiling_px) = (0, 0);
@@ -243,7 +243,7 @@ fn a_plane_beyond_the_light_casts_no_shadow() {
         let want = KA as f64 * albedo * d3(AMBIENT) + KD as f64 * albedo / PI * (2.0 / to.length_squared()) * cos;
         let got = film.pixel(x, y);
         assert!(
-            diff(got, want) <= 2e-5 * want.max_element() + film_tolerance(want.as_vec3()) as f64,
+            diff(got, want) <= 2e-5 * want.max_element() + film_tolerance(want.as_vec3a()) as f64,
             "pixel ({x}, {y}) at {p}: {got} vs {want}"
         );
     }
@@ -255,11 +255,11 @@ fn a_transformed_occluder_casts_its_transformed_shadow() {
     // A unit sphere flattened, turned and lifted: a tilted disc-like
     // ellipsoid. Its world-to-object map is built here independently.
     let (s, ry, rx, tr) = (DVec3::new(1.6, 0.15, 0.7), 35.0f64, 12.0f64, DVec3::new(0.3, 1.2, -0.2));
-    let transform = Transform::scale(s.as_vec3())
+    let transform = Transform::scale(s.as_vec3a())
         .unwrap()
         .then(&Transform::rotate_y(ry as f32))
         .then(&Transform::rotate_x(rx as f32))
-        .then(&Transform::translate(tr.as_vec3()));
+        .then(&Transform::translate(tr.as_vec3a()));
     let (cy, sy) = (ry.to_radians().cos(), ry.to_radians().sin());
     let (cx, sx) = (rx.to_radians().cos(), rx.to_radians().sin());
     // Columns: rotation about y takes z towards x; about x, y towards z.
@@ -316,13 +316,13 @@ fn directional_light_shadows_from_an_occluder_at_any_distance() {
         let c = -distance * dir;
         let (cam, mut scene) = floor_scene();
         let m = gray(&mut scene);
-        scene.add(Primitive::new(Sphere::new(c.as_vec3(), r as f32).unwrap(), Transform::IDENTITY, m));
-        scene.add_light(Light::directional(dir.as_vec3(), Color::ONE, 1.0).unwrap());
+        scene.add(Primitive::new(Sphere::new(c.as_vec3a(), r as f32).unwrap(), Transform::IDENTITY, m));
+        scene.add_light(Light::directional(dir.as_vec3a(), Color::ONE, 1.0).unwrap());
         let film = render_film(&scene);
         // Single precision places a far sphere to about 1e-7 of its distance,
         // so the shadow's edge is only that sharp.
         let margin = 1e-4 + 4.0 * f32::EPSILON as f64 * distance / r;
-        let blocks = move |p: DVec3, l: &RefLight| sphere_blocks(p, l, c.as_vec3().as_dvec3(), r, margin);
+        let blocks = move |p: DVec3, l: &RefLight| sphere_blocks(p, l, c.as_vec3a().as_dvec3(), r, margin);
         let t = check_floor(&cam, &film, &[RefLight::Directional(dir, 1.0)], &sphere_hides(c, r), &blocks);
         assert!(t.dark > 20 && t.lit > 500, "distance {distance}: {t:?}");
         assert_pixel(

@@ -11,7 +11,8 @@
 mod common;
 
 use common::*;
-use glam::{DMat3, DMat4, DVec3, Mat4, Vec3};
+use glam::{DMat3, DMat4, DVec3, Mat4};
+use lucent::geometry::Vec3;
 use lucent::prelude::*;
 use lucent::texture::Texture;
 
@@ -67,7 +68,7 @@ fn check_random_hits(scene: &Scene, e: &Ellipsoid, extent: f64, seed: u64) -> Wo
         let origin = e.centre + rng.unit() * extent * rng.range(1.5, 20.0);
         // Direction lengths vary: t is in units of the given direction.
         let d = (target - origin) * rng.log_range(0.01, 100.0);
-        let ray = Ray::new(origin.as_vec3(), d.as_vec3());
+        let ray = Ray::new(origin.as_vec3a(), d.as_vec3a());
         // The reference takes the ray exactly as lucent sees it.
         let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
         let want_t = e.hit(o, d).expect("the ray aims inside the ellipsoid");
@@ -124,15 +125,15 @@ fn scaled_sphere_normals_and_distances_are_those_of_the_ellipsoid() {
 fn transformed_sphere_hits_match_the_analytic_ellipsoid() {
     let mut rng = Rng::new(77);
     for k in 0..20 {
-        let c = DVec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-2.0, 2.0)).as_vec3().as_dvec3();
+        let c = DVec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-2.0, 2.0)).as_vec3a().as_dvec3();
         let rho = rng.log_range(0.1, 5.0) as f32 as f64;
-        let s = DVec3::new(rng.log_range(0.2, 5.0), rng.log_range(0.2, 5.0), rng.log_range(0.2, 5.0)).as_vec3();
-        let axis = rng.unit().as_vec3();
+        let s = DVec3::new(rng.log_range(0.2, 5.0), rng.log_range(0.2, 5.0), rng.log_range(0.2, 5.0)).as_vec3a();
+        let axis = rng.unit().as_vec3a();
         let angle = rng.range(-180.0, 180.0) as f32;
-        let tr = (rng.unit() * rng.range(0.0, 50.0)).as_vec3();
+        let tr = (rng.unit() * rng.range(0.0, 50.0)).as_vec3a();
         let transform =
             Transform::scale(s).unwrap().then(&Transform::rotate(axis, angle).unwrap()).then(&Transform::translate(tr));
-        let scene = single(Sphere::new(c.as_vec3(), rho as f32).unwrap(), transform);
+        let scene = single(Sphere::new(c.as_vec3a(), rho as f32).unwrap(), transform);
         let e = Ellipsoid::from_sphere(c, rho, s.as_dvec3(), rotation(axis.as_dvec3(), angle as f64), tr.as_dvec3());
         let worst = check_random_hits(&scene, &e, rho * s.max_element() as f64, 100 + k);
         if k < 3 {
@@ -266,8 +267,8 @@ fn nested_group_transforms_compose_outside_in() {
         assert_matrix(t.inverse_matrix(), want.inverse(), what);
         for _ in 0..20 {
             let p = rng.unit() * rng.range(0.0, 3.0);
-            let q = t.point(p.as_vec3()).as_dvec3();
-            let expect = want.transform_point3(p.as_vec3().as_dvec3());
+            let q = t.point(p.as_vec3a()).as_dvec3();
+            let expect = want.transform_point3(p.as_vec3a().as_dvec3());
             assert!((q - expect).length() < 1e-5 * (1.0 + expect.length()), "{what}: {p} ↦ {q}, expected {expect}");
         }
     }
@@ -310,7 +311,7 @@ fn rotate_then_scale_then_translate_maps_points_in_that_order() {
             DVec3::new(r.x + 10.0, 2.0 * r.y + 20.0, r.z)
         };
         for p in [DVec3::X, DVec3::Y, DVec3::Z, DVec3::new(1.0, -2.0, 0.5), DVec3::ZERO] {
-            let got = t.point(p.as_vec3()).as_dvec3();
+            let got = t.point(p.as_vec3a()).as_dvec3();
             assert!((got - map(p)).length() < 1e-5, "rotate_z {angle}: {p} ↦ {got}, expected {}", map(p));
         }
         if angle == 90.0 {
@@ -321,11 +322,11 @@ fn rotate_then_scale_then_translate_maps_points_in_that_order() {
         // radius 0.5 becomes semi-axes (0.5, 1, 0.5): a rotation does not
         // change a sphere, so the scale acts on the world axes.
         let centre = map(DVec3::X);
-        let down = Ray::new((centre + DVec3::Y * 10.0).as_vec3(), -Vec3::Y);
+        let down = Ray::new((centre + DVec3::Y * 10.0).as_vec3a(), -Vec3::Y);
         let si = scene.intersect(&down, f32::INFINITY).unwrap();
         assert!((si.t - 9.0).abs() < 1e-5, "rotate_z {angle}: top of the ellipsoid at t {}", si.t);
         assert!((si.n - Vec3::Y).length() < 1e-5);
-        let across = Ray::new((centre - DVec3::X * 10.0).as_vec3(), Vec3::X);
+        let across = Ray::new((centre - DVec3::X * 10.0).as_vec3a(), Vec3::X);
         let si = scene.intersect(&across, f32::INFINITY).unwrap();
         assert!((si.t - 9.5).abs() < 1e-5, "rotate_z {angle}: side of the ellipsoid at t {}", si.t);
         assert!((si.n + Vec3::X).length() < 1e-5);

@@ -635,7 +635,7 @@ fn albedo(b: &Bxdf, wo: Vec3, n: usize, seed: u64) -> (Color, Color) {
     }
     let mean = sum / n as f64;
     let var = (sum2 / n as f64 - mean * mean).max(glam::DVec3::ZERO);
-    (mean.as_vec3(), (var / n as f64).sqrt().as_vec3())
+    (mean.as_vec3a(), (var / n as f64).sqrt().as_vec3a())
 }
 
 #[test]
@@ -1415,10 +1415,12 @@ fn chi2_metallic_roughness_mixed_and_partly_smooth() {
 
 #[test]
 fn metallic_roughness_keeps_bxdf_small() {
-    // 88 bytes before the variant was added (CoatedConductor's size).
+    // 88 bytes before the variant was added (CoatedConductor's size) with
+    // 12-byte colours; 128 since `Color` is the 16-byte `Vec3A` (issue 28,
+    // fourteenth sitting of docs/performance.md).
     let size = std::mem::size_of::<Bxdf>();
     eprintln!("size_of::<Bxdf>() = {size}, MetallicRoughnessBxdf {}", std::mem::size_of::<MetallicRoughnessBxdf>());
-    assert!(size <= 88, "{size}");
+    assert!(size <= 128, "{size}");
 }
 
 #[test]

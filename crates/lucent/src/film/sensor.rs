@@ -122,7 +122,7 @@ pub fn white_balance_scale(temperature: f32) -> Result<Color, SensorError> {
     if rgb.min_element() <= 1e-3 {
         return Err(SensorError::WhiteOutOfGamut(temperature));
     }
-    Ok((DVec3::ONE / rgb).as_vec3())
+    Ok((DVec3::ONE / rgb).as_vec3a())
 }
 
 /// pbrt-v4's `Film "rgb"` exposure and white balance as the per-channel
@@ -192,7 +192,7 @@ mod tests {
         for t in [3000.0f32, 5000.0, 6500.0, 9000.0] {
             let (x, y) = daylight_white(t).unwrap();
             let white = ColorSpace::Srgb.xyz_to_rgb() * crate::spectrum::xyz_from_xy_y(x, y, 1.0);
-            let by_scale = white.as_vec3() * white_balance_scale(t).unwrap();
+            let by_scale = white.as_vec3a() * white_balance_scale(t).unwrap();
             assert!((by_scale - Color::ONE).abs().max_element() < 1e-5, "{t}: {by_scale}");
             let by_matrix = white_balance_matrix(t).unwrap() * white;
             assert!((by_matrix - DVec3::ONE).abs().max_element() < 1e-9, "{t}: {by_matrix}");

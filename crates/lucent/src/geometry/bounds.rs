@@ -1,4 +1,4 @@
-use glam::Vec3;
+use crate::geometry::Vec3;
 
 /// An axis-aligned bounding box. The empty box has `min > max`.
 #[derive(Clone, Copy, Debug, PartialEq)]

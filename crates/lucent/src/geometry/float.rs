@@ -7,7 +7,7 @@
 //! normal. No scene-dependent "epsilon" is involved: the offset scales with the
 //! magnitude of the coordinates.
 
-use glam::Vec3;
+use crate::geometry::Vec3;
 
 /// Half the distance between 1 and the next float: the unit roundoff `u`.
 pub const MACHINE_EPSILON: f32 = f32::EPSILON * 0.5;

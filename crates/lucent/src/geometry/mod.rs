@@ -17,7 +17,16 @@ pub use frame::{coordinate_system, gram_schmidt, Frame};
 pub use ray::Ray;
 pub use transform::{Transform, TransformError};
 
-pub use glam::{Mat4, Vec2, Vec3};
+/// The renderer's 3-vector (points, directions, normals): glam's `Vec3A`,
+/// 16 bytes and 16-byte aligned, so that copying one through memory (a ray
+/// into a query, a hit record out of it, a sample returned by value) is one
+/// 16-byte store and one 16-byte load. With the 12-byte `glam::Vec3` those
+/// copies were an 8-byte and a 4-byte store read back in another width,
+/// which the CPU cannot forward from its store buffer (docs/performance.md,
+/// thirteenth and fourteenth sittings). Bulk arrays (mesh vertices) are kept
+/// packed at 12 bytes.
+pub use glam::Vec3A as Vec3;
+pub use glam::{Mat4, Vec2};
 
 /// Flip `v` so that it lies in the same hemisphere as `reference`.
 #[inline]

@@ -1,4 +1,4 @@
-use glam::Vec3;
+use crate::geometry::Vec3;
 
 /// A ray `o + t d`. The direction need not be unit length: transforms keep
 /// `t` meaningful between world and object space by not renormalising it.

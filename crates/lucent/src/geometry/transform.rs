@@ -1,7 +1,8 @@
 //! Affine transforms between object space and world space.
 
 use super::{gamma, Bounds3, Ray};
-use glam::{Mat3, Mat4, Vec3, Vec4};
+use crate::geometry::Vec3;
+use glam::{Mat3, Mat4, Vec4};
 
 /// Why a matrix cannot serve as an object transform.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -101,7 +102,7 @@ impl Transform {
 
     /// Translation by `delta`.
     pub fn translate(delta: Vec3) -> Self {
-        Self { m: Mat4::from_translation(delta), m_inv: Mat4::from_translation(-delta) }
+        Self { m: Mat4::from_translation(delta.into()), m_inv: Mat4::from_translation((-delta).into()) }
     }
 
     /// Scale by `s` along the axes; a zero component is rejected.
@@ -112,7 +113,7 @@ impl Transform {
         if !s.is_finite() {
             return Err(TransformError::NonFinite);
         }
-        Ok(Self { m: Mat4::from_scale(s), m_inv: Mat4::from_scale(s.recip()) })
+        Ok(Self { m: Mat4::from_scale(s.into()), m_inv: Mat4::from_scale(s.recip().into()) })
     }
 
     /// Rotation by `degrees` about the x axis (right-handed: y towards z).
@@ -136,7 +137,7 @@ impl Transform {
         if len == 0.0 || !len.is_finite() {
             return Err(TransformError::Singular(0.0));
         }
-        Ok(Self::rotation(Mat4::from_axis_angle(axis / len, degrees.to_radians())))
+        Ok(Self::rotation(Mat4::from_axis_angle((axis / len).into(), degrees.to_radians())))
     }
 
     fn rotation(m: Mat4) -> Self {
@@ -172,13 +173,13 @@ impl Transform {
     /// Transform a point.
     #[inline]
     pub fn point(&self, p: Vec3) -> Vec3 {
-        self.m.transform_point3(p)
+        self.m.transform_point3a(p)
     }
 
     /// Transform a direction (no translation).
     #[inline]
     pub fn vector(&self, v: Vec3) -> Vec3 {
-        self.m.transform_vector3(v)
+        self.m.transform_vector3a(v)
     }
 
     /// Transform a surface normal: by the inverse transpose, so that it stays
@@ -187,7 +188,7 @@ impl Transform {
     pub fn normal(&self, n: Vec3) -> Vec3 {
         // (M⁻¹)ᵀ n, written out from the columns of M⁻¹.
         let c = &self.m_inv;
-        Vec3::new(c.x_axis.truncate().dot(n), c.y_axis.truncate().dot(n), c.z_axis.truncate().dot(n))
+        Vec3::new(Vec3::from_vec4(c.x_axis).dot(n), Vec3::from_vec4(c.y_axis).dot(n), Vec3::from_vec4(c.z_axis).dot(n))
     }
 
     /// Take a world-space ray into this transform's object space. The
@@ -195,7 +196,7 @@ impl Transform {
     /// spaces.
     #[inline]
     pub fn ray_to_object(&self, ray: &Ray) -> Ray {
-        Ray::new(self.m_inv.transform_point3(ray.origin), self.m_inv.transform_vector3(ray.dir))
+        Ray::new(self.m_inv.transform_point3a(ray.origin), self.m_inv.transform_vector3a(ray.dir))
     }
 
     /// Transform a point known to within `error` per component, returning the
@@ -204,7 +205,7 @@ impl Transform {
     #[inline]
     pub fn point_with_error(&self, p: Vec3, error: Vec3) -> (Vec3, Vec3) {
         let abs3 = Mat3::from_mat4(self.m).abs();
-        let translation = self.m.w_axis.truncate().abs();
+        let translation = Vec3::from_vec4(self.m.w_axis).abs();
         let g3 = gamma(3);
         let out_err = (g3 + 1.0) * (abs3 * error) + g3 * (abs3 * p.abs() + translation);
         (self.point(p), out_err)

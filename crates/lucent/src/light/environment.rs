@@ -830,7 +830,7 @@ mod tests {
                 total += map.pixel(x, y).as_dvec3() * acc;
             }
         }
-        total.as_vec3()
+        total.as_vec3a()
     }
 
     /// MC estimate of `∫ Le g dω` with `sample_li`: (mean, standard error of
@@ -853,7 +853,7 @@ mod tests {
         }
         let mean = sum / m as f64;
         let var = (sum2 / m as f64 - mean.x * mean.x).max(0.0);
-        (mean.as_vec3(), (var / m as f64).sqrt() as f32)
+        (mean.as_vec3a(), (var / m as f64).sqrt() as f32)
     }
 
     #[test]
@@ -1110,7 +1110,7 @@ mod tests {
                 total += map.pixel(x, y).as_dvec3() * acc * omega;
             }
         }
-        total.as_vec3()
+        total.as_vec3a()
     }
 
     #[test]

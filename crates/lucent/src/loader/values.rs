@@ -124,9 +124,9 @@ impl fmt::Display for Vec3Desc {
     }
 }
 
-impl From<Vec3Desc> for glam::Vec3 {
+impl From<Vec3Desc> for glam::Vec3A {
     fn from(v: Vec3Desc) -> Self {
-        glam::Vec3::from_array(v.0)
+        glam::Vec3A::from_array(v.0)
     }
 }
 
@@ -146,9 +146,9 @@ impl<'de> Deserialize<'de> for Direction {
     }
 }
 
-impl From<Direction> for glam::Vec3 {
+impl From<Direction> for glam::Vec3A {
     fn from(v: Direction) -> Self {
-        glam::Vec3::from_array(v.0)
+        glam::Vec3A::from_array(v.0)
     }
 }
 
@@ -169,9 +169,9 @@ impl<'de> Deserialize<'de> for Rgb {
     }
 }
 
-impl From<Rgb> for glam::Vec3 {
+impl From<Rgb> for glam::Vec3A {
     fn from(v: Rgb) -> Self {
-        glam::Vec3::from_array(v.0)
+        glam::Vec3A::from_array(v.0)
     }
 }
 

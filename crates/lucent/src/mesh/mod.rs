@@ -142,10 +142,8 @@ pub struct VertexAttributes {
     pub uv1: Vec2,
     /// The vertex colour, linear RGB ([`TriangleMesh::colors`]); white
     /// where the surface has none.
-    pub color: Vec3,
-    /// The vertex colour's alpha; 1 where the surface has none. (Colour and
-    /// alpha are apart, not one `Vec4`, so that the hit records that carry
-    /// them keep 4-byte alignment and their size.)
+    pub color: crate::color::Color,
+    /// The vertex colour's alpha; 1 where the surface has none.
     pub alpha: f32,
 }
 
@@ -154,7 +152,7 @@ impl VertexAttributes {
     /// vertex data: `uv1 = uv`, opaque white.
     #[inline]
     pub const fn plain(uv: Vec2) -> Self {
-        Self { uv1: uv, color: Vec3::ONE, alpha: 1.0 }
+        Self { uv1: uv, color: crate::color::Color::ONE, alpha: 1.0 }
     }
 }
 

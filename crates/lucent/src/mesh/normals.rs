@@ -229,7 +229,7 @@ mod tests {
         ]);
         m.compute_tangents();
         for t in m.tangents.as_ref().unwrap() {
-            assert!(close(t.truncate(), Vec3::X) && t.w == 1.0, "{t}");
+            assert!(close(t.truncate().into(), Vec3::X) && t.w == 1.0, "{t}");
         }
         // v runs down the quad: the bitangent n × t = +y is against ∂p/∂v.
         for uv in m.uvs.as_mut().unwrap() {
@@ -237,7 +237,7 @@ mod tests {
         }
         m.compute_tangents();
         for t in m.tangents.as_ref().unwrap() {
-            assert!(close(t.truncate(), Vec3::X) && t.w == -1.0, "{t}");
+            assert!(close(t.truncate().into(), Vec3::X) && t.w == -1.0, "{t}");
         }
         // A fold: two quads at 90° sharing the edge x = 0, u running
         // across both; the shared vertices' tangent bisects the two.
@@ -251,7 +251,7 @@ mod tests {
         f.compute_tangents();
         let ns = f.normals.clone().unwrap();
         for (t, n) in f.tangents.unwrap().iter().zip(ns) {
-            assert!((t.truncate().length() - 1.0).abs() < 1e-5 && t.truncate().dot(n).abs() < 1e-5, "{t} {n}");
+            assert!((t.truncate().length() - 1.0).abs() < 1e-5 && t.truncate().dot(n.into()).abs() < 1e-5, "{t} {n}");
         }
         // Without uvs nothing is made.
         let mut bare = mesh(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], &[[0, 1, 2]]);

@@ -15,7 +15,8 @@
 //! sample gives one direction with the constant density `1/S`; the
 //! rectangle is not split into triangles, and no alias table is needed.
 
-use glam::{Vec2, Vec3};
+use crate::geometry::Vec3;
+use glam::Vec2;
 use std::f32::consts::PI;
 
 /// The spherical rectangle a rectangle subtends at a point, ready to be

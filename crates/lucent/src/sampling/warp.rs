@@ -2,7 +2,8 @@
 //! points and directions with a known density.
 
 use crate::geometry::gram_schmidt;
-use glam::{Vec2, Vec3};
+use crate::geometry::Vec3;
+use glam::Vec2;
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_4, PI};
 
 /// Map the unit square to the unit disk uniformly by area, keeping strata

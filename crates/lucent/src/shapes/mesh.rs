@@ -1,6 +1,7 @@
 use super::mesh_bvh::MeshBvh;
 use super::triangle::triangle_dpduv;
 use super::{ShapeError, ShapeHit};
+use crate::color::Color;
 use crate::geometry::{gamma, Bounds3, Ray, Vec2, Vec3};
 use crate::mesh::{TriangleMesh, VertexAttributes};
 use glam::Vec4;
@@ -48,9 +49,12 @@ impl DefaultUv {
 /// into the hit's [`VertexAttributes`].
 #[derive(Debug)]
 pub struct Mesh {
-    positions: Vec<Vec3>,
+    // Positions and normals are kept packed, 12 bytes each, rather than as
+    // the renderer's 16-byte `Vec3`: a vertex is read once per hit, so
+    // the padding would cost memory and bandwidth and buy nothing.
+    positions: Vec<glam::Vec3>,
     indices: Vec<[u32; 3]>,
-    normals: Option<Vec<Vec3>>,
+    normals: Option<Vec<glam::Vec3>>,
     uvs: Option<Vec<Vec2>>,
     uvs1: Option<Vec<Vec2>>,
     colors: Option<Vec<Vec4>>,
@@ -110,9 +114,9 @@ impl Mesh {
         // normalising is idempotent: a mesh written out and read back has
         // the same normals bit for bit.
         let unit = |v: Vec3| crate::mesh::unit_normal(v).unwrap_or(Vec3::ZERO);
-        let normals = mesh.normals.map(|ns| ns.into_iter().map(unit).collect());
+        let normals = mesh.normals.map(|ns| ns.into_iter().map(|v| unit(v).into()).collect());
         Ok(Self {
-            positions: mesh.positions,
+            positions: mesh.positions.into_iter().map(glam::Vec3::from).collect(),
             indices: mesh.indices,
             normals,
             uvs: mesh.uvs,
@@ -146,9 +150,9 @@ impl Mesh {
     /// by a `Mesh`.
     pub fn to_triangle_mesh(&self) -> TriangleMesh {
         TriangleMesh {
-            positions: self.positions.clone(),
+            positions: self.positions.iter().map(|&p| p.into()).collect(),
             indices: self.indices.clone(),
-            normals: self.normals.clone(),
+            normals: self.normals.as_ref().map(|ns| ns.iter().map(|&n| n.into()).collect()),
             uvs: self.uvs.clone(),
             uvs1: self.uvs1.clone(),
             colors: self.colors.clone(),
@@ -171,7 +175,7 @@ impl Mesh {
 
     /// The corners of triangle `i`, in object space.
     pub fn triangle(&self, i: usize) -> [Vec3; 3] {
-        self.indices[i].map(|v| self.positions[v as usize])
+        self.indices[i].map(|v| self.positions[v as usize].into())
     }
 
     /// The texture coordinates of the corners of triangle `i`: its
@@ -242,14 +246,14 @@ impl Mesh {
     #[inline]
     fn hit_at(&self, t: f32, face: u32, b: [f32; 3]) -> ShapeHit {
         let [i0, i1, i2] = self.indices[face as usize].map(|i| i as usize);
-        let (p0, p1, p2) = (self.positions[i0], self.positions[i1], self.positions[i2]);
+        let [p0, p1, p2] = [i0, i1, i2].map(|i| Vec3::from(self.positions[i]));
         let [b0, b1, b2] = b;
         let p = b0 * p0 + b1 * p1 + b2 * p2;
         let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
         let mut n = (p1 - p0).cross(p2 - p0).normalize();
         let ns = match &self.normals {
             Some(normals) => {
-                let s = b0 * normals[i0] + b1 * normals[i1] + b2 * normals[i2];
+                let s = b0 * Vec3::from(normals[i0]) + b1 * Vec3::from(normals[i1]) + b2 * Vec3::from(normals[i2]);
                 match s.try_normalize() {
                     Some(ns) => {
                         // Keep the geometric normal on the shading normals' side.
@@ -274,7 +278,7 @@ impl Mesh {
             // interpolated tangent is made orthogonal to the shading normal
             // (it stays as it was where it is degenerate).
             let tw = b0 * tangents[i0] + b1 * tangents[i1] + b2 * tangents[i2];
-            let t = tw.truncate();
+            let t = Vec3::from_vec4(tw);
             if let Some(t) = (t - ns * ns.dot(t)).try_normalize() {
                 let w = if tw.w < 0.0 { -1.0 } else { 1.0 };
                 dpdv = w * ns.cross(t) * dpdv.length();
@@ -287,7 +291,7 @@ impl Mesh {
         }
         if let Some(colors) = &self.colors {
             let c = b0 * colors[i0] + b1 * colors[i1] + b2 * colors[i2];
-            (attributes.color, attributes.alpha) = (c.truncate(), c.w);
+            (attributes.color, attributes.alpha) = (Color::from_vec4(c), c.w);
         }
         ShapeHit { t, p, p_error, n, ns, uv, dpdu, dpdv, face, attributes }
     }

@@ -183,7 +183,7 @@ pub fn rgb_to_linear_srgb(space: ColorSpace, c: Color) -> Color {
     if space == ColorSpace::Srgb {
         return c;
     }
-    (space.to_linear_srgb() * c.as_dvec3()).as_vec3()
+    (space.to_linear_srgb() * c.as_dvec3()).as_vec3a()
 }
 
 /// An `rgb` light value (`L`, `I`) of `space` in linear sRGB, as pbrt-v4
@@ -196,12 +196,12 @@ pub fn illuminant_rgb_to_linear_srgb(space: ColorSpace, c: Color) -> Color {
     if space == ColorSpace::Srgb {
         return c;
     }
-    (space.to_linear_srgb_unadapted() * c.as_dvec3()).as_vec3()
+    (space.to_linear_srgb_unadapted() * c.as_dvec3()).as_vec3a()
 }
 
 /// CIE XYZ in linear sRGB.
 pub fn xyz_to_linear_srgb(xyz: DVec3) -> Color {
-    (ColorSpace::Srgb.xyz_to_rgb() * xyz).as_vec3()
+    (ColorSpace::Srgb.xyz_to_rgb() * xyz).as_vec3a()
 }
 
 #[cfg(test)]

@@ -147,11 +147,11 @@ pub fn relative_squared_error(a: Color, b: Color) -> f64 {
 /// ```
 /// use lucent::film::Film;
 /// use lucent::tools::compare;
-/// use glam::Vec3;
+/// use lucent::color::Color;
 ///
 /// let reference = Film::new(2, 1)?;
 /// let mut a = reference.clone();
-/// a.pixels_mut()[1] = Vec3::new(0.0, 0.3, 0.0);
+/// a.pixels_mut()[1] = Color::new(0.0, 0.3, 0.0);
 /// let m = compare(&a, &reference)?;
 /// assert!((m.mse - 0.09 / 6.0).abs() < 1e-6);
 /// assert_eq!(m.max_at, Some((1, 0, 1)));

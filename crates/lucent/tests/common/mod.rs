@@ -8,7 +8,8 @@
 
 #![allow(dead_code)]
 
-use glam::{DMat3, DVec3, Vec3};
+use glam::{DMat3, DVec3};
+use lucent::geometry::Vec3;
 use lucent::prelude::*;
 use lucent::sampling::Pcg32;
 

@@ -83,7 +83,7 @@ impl Aabb {
     }
 
     fn to_bounds(self) -> Bounds3 {
-        Bounds3 { min: self.lo.into(), max: self.hi.into() }
+        Bounds3 { min: self.lo, max: self.hi }
     }
 }
 
@@ -394,7 +394,7 @@ impl Bvh {
         prims.par_iter_mut().enumerate().with_min_len(4096).for_each(|(i, p)| {
             let b = bounds(i);
             let bin = if b.is_empty() || b.is_infinite() { LEFT_OUT } else { 0 };
-            *p = BuildPrim { bounds: Aabb { lo: b.min.into(), hi: b.max.into() }, index: i as u32, bin };
+            *p = BuildPrim { bounds: Aabb { lo: b.min, hi: b.max }, index: i as u32, bin };
         });
         if let Some(first_out) = prims.iter().position(|p| p.bin == LEFT_OUT) {
             let mut len = first_out;

@@ -158,7 +158,7 @@ pub(crate) fn transform_error_message(e: &crate::geometry::TransformError) -> St
 
 fn triangle_corners<'de, D: Deserializer<'de>>(d: D) -> Result<[Vec3Desc; 3], D::Error> {
     let v = <[Vec3Desc; 3]>::deserialize(d)?;
-    crate::shapes::Triangle::new(v.map(glam::Vec3::from), None).map_err(D::Error::custom)?;
+    crate::shapes::Triangle::new(v.map(glam::Vec3A::from), None).map_err(D::Error::custom)?;
     Ok(v)
 }
 

@@ -213,8 +213,8 @@ impl Importer<'_> {
         use gltf::khr_lights_punctual::Kind;
         let color = Color::from(light.color());
         let intensity = light.intensity() / LUMENS_PER_WATT;
-        let position = world.transform_point3(Vec3::ZERO);
-        let direction = world.transform_vector3(-Vec3::Z);
+        let position = world.transform_point3a(Vec3::ZERO);
+        let direction = world.transform_vector3a(-Vec3::Z);
         if light.range().is_some() {
             self.note_once("light range is ignored: lights fall off with the inverse square of distance");
         }
@@ -280,7 +280,7 @@ impl Importer<'_> {
         let what = format!("cameras[{}]", c.camera.index());
         // glTF cameras look down −z with +y up (right-handed); pbrt's
         // camera space looks down +z: flip z.
-        let world_from_camera = rigid(c.world) * Mat4::from_scale(Vec3::new(1.0, 1.0, -1.0));
+        let world_from_camera = rigid(c.world) * Mat4::from_scale(glam::Vec3::new(1.0, 1.0, -1.0));
         let world_from_camera =
             Transform::from_matrix(world_from_camera).map_err(|e| GltfError::new(&what, e.to_string()))?;
         let (projection, aspect) = match c.camera.projection() {

@@ -1,8 +1,9 @@
 //! Parameter lists: `"float radius" [ 2 ]` and the positions of everything
 //! in a pbrt-v4 file.
 
+use crate::geometry::Vec3;
 use crate::scene::{SceneError, SourceLocation};
-use glam::{Vec2, Vec3};
+use glam::Vec2;
 use std::cell::Cell;
 use std::fmt;
 use std::path::PathBuf;
