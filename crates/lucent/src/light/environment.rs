@@ -638,6 +638,13 @@ impl EnvironmentMap {
         let uv = self.uv_of(wi);
         self.solid_angle_pdf(uv, self.distribution.pdf(uv))
     }
+
+    /// [`EnvironmentMap::le`] and [`EnvironmentMap::pdf_li`] of one
+    /// direction, with its `uv` (two `atan2`s) found once.
+    fn le_pdf(&self, dir: Vec3) -> (Color, f32) {
+        let uv = self.uv_of(dir);
+        (self.lookup(uv), self.solid_angle_pdf(uv, self.distribution.pdf(uv)))
+    }
 }
 
 impl Environment {
@@ -749,6 +756,26 @@ impl Environment {
         }
     }
 
+    /// `(le(dir), pdf_li(dir))`, bit for bit, for a ray that escapes along
+    /// `dir` after a BSDF sample (what MIS needs): an image's direction is
+    /// mapped to the image once instead of twice.
+    ///
+    /// ```
+    /// use lucent::color::Color;
+    /// use lucent::geometry::Vec3;
+    /// use lucent::light::Environment;
+    ///
+    /// let env = Environment::uniform(Color::ONE, 2.0, None).unwrap();
+    /// let dir = Vec3::new(0.3, 0.8, -0.2);
+    /// assert_eq!(env.le_pdf(dir), (env.le(dir), env.pdf_li(dir)));
+    /// ```
+    pub fn le_pdf(&self, dir: Vec3) -> (Color, f32) {
+        match self {
+            Environment::Constant(c) => (*c, 1.0 / (4.0 * PI)),
+            Environment::Image(map) => map.le_pdf(dir),
+        }
+    }
+
     /// Power (luminance) delivered into a scene of bounding-sphere radius
     /// `r`: PBRT 4th ed. §12.5.1 takes the radiance through a disk of area
     /// `π r²` from every direction, `Φ = π r² · 4π · lum(L)` for a constant
@@ -846,6 +873,11 @@ mod tests {
                 let pdf = env.pdf_li(s.wi);
                 assert!((pdf - s.pdf).abs() <= 2e-3 * s.pdf, "pdf_li {pdf} vs sample {}", s.pdf);
                 assert_eq!(env.le(s.wi), s.l);
+                assert_eq!(env.le_pdf(s.wi), (s.l, pdf), "le_pdf is le and pdf_li");
+                // And anywhere else, any length.
+                let d = uniform_sphere(Vec2::new(rng.uniform(), rng.uniform())) * (0.5 + rng.uniform());
+                let (le, pdf) = env.le_pdf(d);
+                assert_eq!((le, pdf.to_bits()), (env.le(d), env.pdf_li(d).to_bits()));
                 let x = (s.l * g(s.wi) / s.pdf).as_dvec3();
                 sum += x;
                 sum2 += x.x * x.x;

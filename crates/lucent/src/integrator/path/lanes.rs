@@ -277,12 +277,14 @@ impl PathIntegrator {
         let Some(si) = hit else {
             // The ray leaves the scene: environment light.
             if let Some((index, env)) = scene.environment_light() {
-                let le = env.le(ray.dir);
                 let c = if path.depth == 0 || path.specular_bounce {
-                    path.beta * le
+                    path.beta * env.le(ray.dir)
                 } else {
-                    let p_light = lights.pmf(index)
-                        * lights.emitters()[index].pdf_li(&path.prev_ctx, ray.dir, ray.origin, ray.dir);
+                    // The environment's pdf of this direction, for MIS
+                    // (`Emitter::pdf_li` of the environment), found with its
+                    // radiance.
+                    let (le, pdf) = env.le_pdf(ray.dir);
+                    let p_light = lights.pmf(index) * pdf;
                     path.beta * le * self.bsdf_weight(path.prev_pdf, p_light)
                 };
                 path.radiance += self.contribution(c, path.indirect);
