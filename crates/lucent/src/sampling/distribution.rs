@@ -479,9 +479,8 @@ mod tests {
         let mut rng = Pcg32::new(7, 3);
         for (nu, nv) in [(1, 1), (5, 4), (16, 9), (33, 2)] {
             for zero in [false, true] {
-                let f: Vec<f32> = (0..nu * nv)
-                    .map(|i| if zero || (i / nu) % 3 == 1 { 0.0 } else { rng.uniform() * 10.0 })
-                    .collect();
+                let f: Vec<f32> =
+                    (0..nu * nv).map(|i| if zero || (i / nu) % 3 == 1 { 0.0 } else { rng.uniform() * 10.0 }).collect();
                 let d = PiecewiseConstant2D::new(&f, nu, nv);
                 let mut uvs: Vec<Vec2> = (0..3000).map(|_| Vec2::new(rng.uniform(), rng.uniform())).collect();
                 for x in [-0.5, 0.0, 1.0f32.next_down(), 1.0, 1.5, f32::NAN] {
