@@ -97,12 +97,12 @@ impl PiecewiseConstant1D {
     }
 
     /// The guide table of the CDF in `bins`: `K + 1` entries, `K` a power
-    /// of two near the number of bins over [`BINS_PER_GUIDE_SLICE`], entry
-    /// `k` the number of CDF values `≤ k / K`. (`k / K` is exact in `f32`,
-    /// and so is the slice `⌊u K⌋` of a sample `u`.) One pass over the
-    /// CDF, which is non-decreasing.
+    /// of two near the number of bins over [`BINS_PER_GUIDE_SLICE`] (at
+    /// most 2²⁴), entry `k` the number of CDF values `≤ k / K`. (`k` and
+    /// `K` are exact in `f32`, so `k / K` is, and so is the slice `⌊u K⌋`
+    /// of a sample `u`.) One pass over the CDF, which is non-decreasing.
     fn guide_table(bins: &[[f32; 2]]) -> Vec<u32> {
-        let slices = ((bins.len() - 1) / BINS_PER_GUIDE_SLICE).max(1).next_power_of_two();
+        let slices = ((bins.len() - 1) / BINS_PER_GUIDE_SLICE).clamp(1, 1 << 24).next_power_of_two();
         let mut guide = Vec::with_capacity(slices + 1);
         let mut count = 0;
         for k in 0..=slices {
