@@ -536,17 +536,21 @@ impl EnvironmentMap {
     /// The pixel at `(u, v)`.
     #[inline]
     fn lookup(&self, uv: Vec2) -> Color {
+        let (x, y) = self.pixel_at(uv);
+        self.pixel(x, y)
+    }
+
+    /// The column and row of the pixel at `(u, v)`.
+    #[inline]
+    fn pixel_at(&self, uv: Vec2) -> (u32, u32) {
         let (w, h) = (self.width(), self.height());
         match self.mapping {
             EnvironmentMapping::Equirectangular => {
-                let x = ((uv.x * w as f32) as u32).min(w - 1);
-                let y = ((uv.y * h as f32) as u32).min(h - 1);
-                self.pixel(x, y)
+                (((uv.x * w as f32) as u32).min(w - 1), ((uv.y * h as f32) as u32).min(h - 1))
             }
+            // uv = 1 reaches index w: fold it across the edge.
             EnvironmentMapping::EqualArea => {
-                // uv = 1 reaches index w: fold it across the edge.
-                let (x, y) = wrap_octahedral_pixel((uv.x * w as f32) as i64, (uv.y * h as f32) as i64, w, h);
-                self.pixel(x, y)
+                wrap_octahedral_pixel((uv.x * w as f32) as i64, (uv.y * h as f32) as i64, w, h)
             }
         }
     }
@@ -644,6 +648,29 @@ impl EnvironmentMap {
     fn le_pdf(&self, dir: Vec3) -> (Color, f32) {
         let uv = self.uv_of(dir);
         (self.lookup(uv), self.solid_angle_pdf(uv, self.distribution.pdf(uv)))
+    }
+
+    /// [`EnvironmentMap::le_pdf`] of every direction of `dirs`, into
+    /// `out`. The directions are first mapped to their pixel and cell, and
+    /// only then are the pixels and densities read, in a loop of loads that
+    /// do not wait on each other: a direction's pixel is anywhere in the
+    /// image, so each read is likely a cache miss, and this way the misses
+    /// of many directions overlap instead of following one another.
+    fn le_pdf_many(&self, dirs: &[Vec3], out: &mut [(Color, f32)]) {
+        const CHUNK: usize = 64;
+        for (dirs, out) in dirs.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
+            let mut at = [(Vec2::ZERO, (0u32, 0u32), 0usize); CHUNK];
+            for (at, &dir) in at.iter_mut().zip(dirs) {
+                let uv = self.uv_of(dir);
+                *at = (uv, self.pixel_at(uv), self.distribution.cell(uv));
+            }
+            for (out, &(_, (x, y), cell)) in out.iter_mut().zip(&at) {
+                *out = (self.pixel(x, y), self.distribution.cell_pdf(cell));
+            }
+            for (out, &(uv, _, _)) in out.iter_mut().zip(&at) {
+                out.1 = self.solid_angle_pdf(uv, out.1);
+            }
+        }
     }
 }
 
@@ -776,6 +803,17 @@ impl Environment {
         }
     }
 
+    /// [`Environment::le_pdf`] of each direction of `dirs`, into `out` (of
+    /// the same length), bit for bit; for an image, the pixel reads of all
+    /// the directions overlap in memory.
+    pub fn le_pdf_many(&self, dirs: &[Vec3], out: &mut [(Color, f32)]) {
+        assert_eq!(dirs.len(), out.len(), "one result per direction");
+        match self {
+            Environment::Constant(c) => out.fill((*c, 1.0 / (4.0 * PI))),
+            Environment::Image(map) => map.le_pdf_many(dirs, out),
+        }
+    }
+
     /// Power (luminance) delivered into a scene of bounding-sphere radius
     /// `r`: PBRT 4th ed. §12.5.1 takes the radiance through a disk of area
     /// `π r²` from every direction, `Φ = π r² · 4π · lum(L)` for a constant
@@ -867,6 +905,7 @@ mod tests {
         let mut rng = Pcg32::new(17, 3);
         let mut sum = glam::DVec3::ZERO;
         let mut sum2 = 0.0f64;
+        let mut dirs = Vec::new();
         for _ in 0..m {
             if let Some(s) = env.sample_li(&ctx, Vec2::new(rng.uniform(), rng.uniform())) {
                 assert!(s.p_light.is_none());
@@ -874,6 +913,7 @@ mod tests {
                 assert!((pdf - s.pdf).abs() <= 2e-3 * s.pdf, "pdf_li {pdf} vs sample {}", s.pdf);
                 assert_eq!(env.le(s.wi), s.l);
                 assert_eq!(env.le_pdf(s.wi), (s.l, pdf), "le_pdf is le and pdf_li");
+                dirs.push(s.wi);
                 // And anywhere else, any length.
                 let d = uniform_sphere(Vec2::new(rng.uniform(), rng.uniform())) * (0.5 + rng.uniform());
                 let (le, pdf) = env.le_pdf(d);
@@ -882,6 +922,15 @@ mod tests {
                 sum += x;
                 sum2 += x.x * x.x;
             }
+        }
+        // The batched lookup gives each direction's le_pdf, bit for bit,
+        // over many chunks (and a few directions that are not unit length).
+        dirs.extend((0..300).map(|i| uniform_sphere(Vec2::new(rng.uniform(), rng.uniform())) * (0.25 + i as f32)));
+        let mut found = vec![(Color::ZERO, 0.0); dirs.len()];
+        env.le_pdf_many(&dirs, &mut found);
+        for (&d, &(le, pdf)) in dirs.iter().zip(&found) {
+            let (want_le, want_pdf) = env.le_pdf(d);
+            assert_eq!((le, pdf.to_bits()), (want_le, want_pdf.to_bits()), "{d}");
         }
         let mean = sum / m as f64;
         let var = (sum2 / m as f64 - mean.x * mean.x).max(0.0);

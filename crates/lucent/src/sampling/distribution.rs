@@ -235,11 +235,26 @@ impl PiecewiseConstant2D {
     /// The density at `uv`: exactly what [`PiecewiseConstant2D::sample`]
     /// returns for a point there.
     pub fn pdf(&self, uv: Vec2) -> f32 {
+        self.cell_pdf(self.cell(uv))
+    }
+
+    /// The index (row by row) of the cell containing `uv` (clamped into
+    /// `[0, 1]²`): [`PiecewiseConstant2D::pdf`] in two steps, for callers
+    /// that look many cells up at once.
+    #[inline]
+    pub fn cell(&self, uv: Vec2) -> usize {
         let row = self.marginal.bin(uv.y);
         // The bin of `uv.x` in the row (`PiecewiseConstant1D::bin` of a
         // table of `nu` bins).
         let col = ((uv.x * self.nu as f32).max(0.0) as usize).min(self.nu - 1);
-        self.joint[row * self.nu + col]
+        row * self.nu + col
+    }
+
+    /// The density on cell `cell` (an index from
+    /// [`PiecewiseConstant2D::cell`]).
+    #[inline]
+    pub fn cell_pdf(&self, cell: usize) -> f32 {
+        self.joint[cell]
     }
 }
 

@@ -7,11 +7,12 @@
 //! before the next starts:
 //!
 //! 1. **surface**: the ray query, the medium segment up to the hit (scenes
-//!    with media), light found by the ray (emitters and the environment),
-//!    and the material at the hit. A lane that hit an interface or
-//!    scattered in a medium goes straight to the next round; a lane that
-//!    left the scene or reached the depth limit ends; the others have a
-//!    BSDF to shade with;
+//!    with media), light found by the ray (emitters; the environment for
+//!    all the lanes that left the scene at once, so that their reads of
+//!    its image overlap), and the material at the hit. A lane that hit an
+//!    interface or scattered in a medium goes straight to the next round;
+//!    a lane that left the scene or reached the depth limit ends; the
+//!    others have a BSDF to shade with;
 //! 2. **samples**: the five sample dimensions of the vertex ([`VertexSamples`])
 //!    for every shading lane at once ([`Sampler::vertex_lanes`]);
 //! 3. **light**: next-event estimation;
@@ -102,6 +103,10 @@ impl PathState {
 enum Surface {
     /// The path has ended.
     End,
+    /// The ray left the scene into an environment light: the path ends
+    /// with the light it finds there, added for all such lanes at once
+    /// ([`PathIntegrator::escape`]).
+    Escape,
     /// The path goes on with a new ray and no vertex to shade (it passed an
     /// interface, or scattered in a medium).
     Trace,
@@ -168,13 +173,18 @@ impl PathIntegrator {
             // 1. Ray queries and what they find.
             let mut next = LaneList::empty();
             let mut shade = LaneList::empty();
+            let mut escape = LaneList::empty();
             for &lane in live.as_slice() {
                 let i = lane as usize;
                 match self.surface(scene, &mut paths[i], &mut vertices[i], &mut samplers[i], stats) {
                     Surface::End => {}
+                    Surface::Escape => escape.push(i),
                     Surface::Trace => next.push(i),
                     Surface::Shade => shade.push(i),
                 }
+            }
+            if escape.len > 0 {
+                self.escape(scene, &mut paths, escape.as_slice());
             }
             // 2. The vertex's sample dimensions, drawn even where unused to
             // keep the pattern fixed.
@@ -275,21 +285,8 @@ impl PathIntegrator {
         }
         let lights = scene.light_set();
         let Some(si) = hit else {
-            // The ray leaves the scene: environment light.
-            if let Some((index, env)) = scene.environment_light() {
-                let c = if path.depth == 0 || path.specular_bounce {
-                    path.beta * env.le(ray.dir)
-                } else {
-                    // The environment's pdf of this direction, for MIS
-                    // (`Emitter::pdf_li` of the environment), found with its
-                    // radiance.
-                    let (le, pdf) = env.le_pdf(ray.dir);
-                    let p_light = lights.pmf(index) * pdf;
-                    path.beta * le * self.bsdf_weight(path.prev_pdf, p_light)
-                };
-                path.radiance += self.contribution(c, path.indirect);
-            }
-            return Surface::End;
+            // The ray leaves the scene: environment light, if any.
+            return if scene.environment_light().is_some() { Surface::Escape } else { Surface::End };
         };
         let wo = -ray.dir;
 
@@ -333,6 +330,34 @@ impl PathIntegrator {
         }
         *vertex = Some((si, bsdf));
         Surface::Shade
+    }
+
+    /// The light that the rays of `lanes`, which left the scene, find in
+    /// the environment light. The environment's radiance and (for MIS) its
+    /// pdf of each direction are looked up for all the lanes at once
+    /// ([`crate::light::Environment::le_pdf_many`]), so that their reads
+    /// of the image overlap.
+    fn escape(&self, scene: &Scene, paths: &mut [PathState], lanes: &[u8]) {
+        let Some((index, env)) = scene.environment_light() else { return };
+        let n = lanes.len();
+        let mut dirs = [Vec3::ZERO; PATH_LANES];
+        for (dir, &lane) in dirs.iter_mut().zip(lanes) {
+            *dir = paths[lane as usize].ray.dir;
+        }
+        let mut found = [(Color::ZERO, 0.0); PATH_LANES];
+        env.le_pdf_many(&dirs[..n], &mut found[..n]);
+        let pmf = scene.light_set().pmf(index);
+        for (&(le, pdf), &lane) in found.iter().zip(lanes) {
+            let path = &mut paths[lane as usize];
+            let c = if path.depth == 0 || path.specular_bounce {
+                path.beta * le
+            } else {
+                // MIS against the environment's own sampling
+                // (`Emitter::pdf_li` of the environment).
+                path.beta * le * self.bsdf_weight(path.prev_pdf, pmf * pdf)
+            };
+            path.radiance += self.contribution(c, path.indirect);
+        }
     }
 
     /// The scatter stage for one lane: sample the BSDF at `si` for the
