@@ -806,6 +806,9 @@ impl Environment {
     /// [`Environment::le_pdf`] of each direction of `dirs`, into `out` (of
     /// the same length), bit for bit; for an image, the pixel reads of all
     /// the directions overlap in memory.
+    ///
+    /// # Panics
+    /// If `out` and `dirs` differ in length.
     pub fn le_pdf_many(&self, dirs: &[Vec3], out: &mut [(Color, f32)]) {
         assert_eq!(dirs.len(), out.len(), "one result per direction");
         match self {
