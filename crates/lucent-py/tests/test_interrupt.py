@@ -9,7 +9,11 @@ import time
 from conftest import SCENES
 
 CHILD = """
-import sys, time, lucent
+import signal, sys, time, lucent
+# A process started in the background by a non-interactive shell (a CI
+# job run as `cmd &`) inherits SIGINT ignored, and Python then leaves it
+# ignored: give the child Python's own handler, as an interactive one has.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 scene = lucent.load(sys.argv[1])
 print("rendering", flush=True)
 started = time.monotonic()
