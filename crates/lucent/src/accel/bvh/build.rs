@@ -22,11 +22,11 @@ const PARALLEL_THRESHOLD: usize = 4096;
 /// top level, as before) kept leaves of primitives far apart or at right
 /// angles, such as two walls of a room, whose box every ray inside the room
 /// enters: a Cornell box's closest-hit queries tested 2.20 blocks each and
-/// its shadow rays 2.26, with splits priced at a quarter 1.41 and 0.62; at
-/// the top level, Veach's MIS scene tested all three of its small light
-/// spheres, and three plates' BVHs, wherever a ray entered their common
-/// leaf (25% of its instructions; `docs/performance.md`, sixteenth
-/// sitting).
+/// its shadow rays 2.26, with splits priced at a quarter 1.41 and 0.62. At
+/// the top level every node of up to three primitives was a leaf, all of
+/// whose spheres and meshes a ray entering it tested: priced at a quarter,
+/// Veach's MIS scene spends 38% fewer instructions in ray queries
+/// (`docs/performance.md`, sixteenth sitting).
 const SMALL_SPLIT_COST: f32 = 0.25;
 
 /// How the surface area heuristic prices a leaf: how many primitives a leaf
