@@ -54,7 +54,7 @@ def stage_of(function):
 def callgrind_costs(path):
     """Self instructions per function, and the program total."""
     text = subprocess.run(
-        ["callgrind_annotate", "--threshold=100", path], capture_output=True, text=True, check=True
+        ["callgrind_annotate", "--auto=no", "--threshold=100", path], capture_output=True, text=True, check=True
     ).stdout
     costs, total = [], None
     for line in text.splitlines():
