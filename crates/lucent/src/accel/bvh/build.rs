@@ -148,6 +148,18 @@ fn bounds_of(prims: &[BuildPrim]) -> (Aabb, Aabb) {
     prims.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| (b.union(&p.bounds), c.union_point(p.bounds.centroid())))
 }
 
+/// The axis (0, 1, 2) along which `extent` is largest; the first of
+/// equal ones.
+fn widest_axis(extent: Vec3A) -> usize {
+    if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    }
+}
+
 /// Where to split a node of at most [`MAX_LEAF_SIZE`] primitives (`bounds`
 /// is the union of their boxes), if a split costs less than the leaf:
 /// `prims` is then sorted by centroid along the axis of the centroids'
@@ -178,13 +190,7 @@ fn small_split(prims: &mut [BuildPrim], bounds: &Aabb, costs: SahCosts) -> Optio
     }
     let centroids = prims.iter().fold(Aabb::EMPTY, |c, p| c.union_point(p.bounds.centroid()));
     let extent = centroids.hi - centroids.lo;
-    let axis = if extent.x >= extent.y && extent.x >= extent.z {
-        0
-    } else if extent.y >= extent.z {
-        1
-    } else {
-        2
-    };
+    let axis = widest_axis(extent);
     let key = |p: &BuildPrim| p.bounds.centroid().to_array()[axis];
     prims.sort_unstable_by(|a, b| key(a).total_cmp(&key(b)));
     // The costs of every prefix and suffix, the first of equal costs kept.
@@ -349,13 +355,7 @@ impl Builder {
             };
         }
         let extent = centroid_bounds.hi - centroid_bounds.lo;
-        let axis = if extent.x >= extent.y && extent.x >= extent.z {
-            0
-        } else if extent.y >= extent.z {
-            1
-        } else {
-            2
-        };
+        let axis = widest_axis(extent);
         if extent[axis] <= 0.0 {
             // All centroids coincide: no split can separate them.
             let mid = n / 2;
@@ -835,13 +835,7 @@ mod tests {
             // boundaries is what the sorted order must reach.
             let centroids = prims.iter().fold(Aabb::EMPTY, |c, p| c.union_point(p.bounds.centroid()));
             let e = centroids.hi - centroids.lo;
-            let axis = if e.x >= e.y && e.x >= e.z {
-                0
-            } else if e.y >= e.z {
-                1
-            } else {
-                2
-            };
+            let axis = widest_axis(e);
             let mut sorted = prims.clone();
             sorted.sort_by(|a, b| a.bounds.centroid()[axis].total_cmp(&b.bounds.centroid()[axis]));
             // A side's area times its leaf cost, by division.
