@@ -240,7 +240,6 @@ impl Filter1d {
         self.eval_f64(x as f64) as f32
     }
 
-    #[inline]
     pub(super) fn eval_f64(&self, x: f64) -> f64 {
         let r = self.r;
         let ax = x.abs();

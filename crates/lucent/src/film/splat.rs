@@ -45,10 +45,6 @@ pub struct SplatBand {
     /// rows.
     wx: Vec<f32>,
     wy: Vec<f32>,
-    /// Whether [`add`](Self::add) runs its AVX2 build (the CPU has it,
-    /// and `LUCENT_SIMD` allows it).
-    #[cfg(target_arch = "x86_64")]
-    avx2: bool,
 }
 
 impl SplatBand {
@@ -82,8 +78,6 @@ impl SplatBand {
             // more than the image).
             wx: vec![0.0; ((2.0 * radius).ceil() as usize).saturating_add(2).min(width as usize)],
             wy: vec![0.0; ((2.0 * radius).ceil() as usize).saturating_add(2).min(height as usize)],
-            #[cfg(target_arch = "x86_64")]
-            avx2: crate::accel::isa() >= crate::accel::Isa::Avx2,
         }
     }
 
@@ -97,28 +91,10 @@ impl SplatBand {
     /// pixel `px` in the band's row `y + k`.
     #[inline(always)]
     fn add_at(&mut self, k: i64, px: usize, l: Color, aux: &[f32], w: f32) {
-        self.add_at_with::<false>(k, px, l, aux, w);
-    }
-
-    /// [`add_at`](Self::add_at), with the colour's sums added by the AVX2
-    /// kernel where `AVX2` (only in code compiled for AVX2).
-    #[inline(always)]
-    fn add_at_with<const AVX2: bool>(&mut self, k: i64, px: usize, l: Color, aux: &[f32], w: f32) {
         let row = (k - self.first) as usize;
         debug_assert!(row < self.rows, "footprint row {k} outside the band");
         let i = (row * self.width as usize + px) * self.stride;
         let colour: &mut [i64; 4] = (&mut self.sums[i..i + 4]).try_into().expect("4 sums");
-        #[cfg(target_arch = "x86_64")]
-        if AVX2 {
-            // SAFETY: `AVX2` is true only in `add_footprint_avx2`, which
-            // runs only where the CPU has AVX2.
-            unsafe { super::accumulator::add_contribution_avx2(colour, l, w) };
-        } else {
-            for (s, c) in colour.iter_mut().zip(fixed_contribution(l, w)) {
-                *s += c;
-            }
-        }
-        #[cfg(not(target_arch = "x86_64"))]
         for (s, c) in colour.iter_mut().zip(fixed_contribution(l, w)) {
             *s += c;
         }
@@ -145,29 +121,6 @@ impl SplatBand {
             self.add_at(0, x as usize, l, aux, 1.0);
             return;
         }
-        #[cfg(target_arch = "x86_64")]
-        if self.avx2 {
-            // SAFETY: `avx2` is set only where the CPU has AVX2.
-            return unsafe { self.add_footprint_avx2(x, u, l, aux, acc) };
-        }
-        self.add_footprint::<false>(x, u, l, aux, acc);
-    }
-
-    /// [`add_footprint`](Self::add_footprint) compiled for AVX2: the same
-    /// operations in the same order (bit-identical sums; tests compare the
-    /// builds), with the fixed-point conversion in four lanes.
-    ///
-    /// # Safety
-    /// The CPU must have AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn add_footprint_avx2(&mut self, x: u32, u: Vec2, l: Color, aux: &[f32], acc: &Accumulator) {
-        self.add_footprint::<true>(x, u, l, aux, acc);
-    }
-
-    /// The body of [`add`](Self::add) for filters wider than the pixel box.
-    #[inline(always)]
-    fn add_footprint<const AVX2: bool>(&mut self, x: u32, u: Vec2, l: Color, aux: &[f32], acc: &Accumulator) {
         // The footprint: offsets k with u − ½ − r < k ≤ u − ½ + r. The
         // interval is half open, so a box filter of radius ½ puts every
         // sample in exactly its own pixel, and the offsets are computed from
@@ -179,7 +132,7 @@ impl SplatBand {
             let offset = Vec2::splat(0.5) - u;
             let weight = self.filter.evaluate(offset.x) * self.filter.evaluate(offset.y);
             if weight != 0.0 {
-                self.add_at_with::<AVX2>(0, x as usize, l, aux, weight);
+                self.add_at(0, x as usize, l, aux, weight);
             }
             return;
         }
@@ -189,28 +142,25 @@ impl SplatBand {
         let (kx_lo, kx_hi) = ((k_lo.x as i64).max(-x), (k_hi.x as i64).min(w - 1 - x));
         let (ky_lo, ky_hi) = ((k_lo.y as i64).max(-y), (k_hi.y as i64).min(h - 1 - y));
         // The separable filter's factors: f₁ at each column's and each
-        // row's offset, the very values `Filter::evaluate` multiplies. (The
-        // footprint never holds more columns or rows than `wx` and `wy`.)
-        let (nx, ny) = ((kx_hi - kx_lo + 1).max(0) as usize, (ky_hi - ky_lo + 1).max(0) as usize);
+        // row's offset, the very values `Filter::evaluate` multiplies.
         let filter = self.filter;
-        for (i, w) in self.wx[..nx].iter_mut().enumerate() {
-            *w = filter.evaluate((kx_lo + i as i64) as f32 + 0.5 - u.x);
+        for (w, kx) in self.wx.iter_mut().zip(kx_lo..=kx_hi) {
+            *w = filter.evaluate(kx as f32 + 0.5 - u.x);
         }
-        for (j, w) in self.wy[..ny].iter_mut().enumerate() {
-            *w = filter.evaluate((ky_lo + j as i64) as f32 + 0.5 - u.y);
+        for (w, ky) in self.wy.iter_mut().zip(ky_lo..=ky_hi) {
+            *w = filter.evaluate(ky as f32 + 0.5 - u.y);
         }
-        let band = self.first..self.first + self.rows as i64;
-        for j in 0..ny {
-            let (ky, wy) = (ky_lo + j as i64, self.wy[j]);
-            let in_band = band.contains(&ky);
-            for i in 0..nx {
+        for (j, ky) in (ky_lo..=ky_hi).enumerate() {
+            let wy = self.wy[j];
+            let in_band = (self.first..self.first + self.rows as i64).contains(&ky);
+            for (i, kx) in (kx_lo..=kx_hi).enumerate() {
                 let weight = self.wx[i] * wy;
                 if weight == 0.0 {
                     continue;
                 }
-                let px = (x + kx_lo) as usize + i;
+                let px = (x + kx) as usize;
                 if in_band {
-                    self.add_at_with::<AVX2>(ky, px, l, aux, weight);
+                    self.add_at(ky, px, l, aux, weight);
                 } else {
                     acc.splat_with_aovs(px as u32, (y + ky) as u32, l, aux, weight);
                 }
