@@ -240,6 +240,7 @@ impl Filter1d {
         self.eval_f64(x as f64) as f32
     }
 
+    #[inline]
     pub(super) fn eval_f64(&self, x: f64) -> f64 {
         let r = self.r;
         let ax = x.abs();
@@ -248,7 +249,8 @@ impl Filter1d {
         }
         match self.filter {
             Filter::Box { .. } => 1.0,
-            Filter::Tent { .. } => 1.0 - ax / r,
+            // (Radius 1, the common tent, divides by 1: exact, skipped.)
+            Filter::Tent { .. } => 1.0 - if r == 1.0 { ax } else { ax / r },
             Filter::Gaussian { .. } => ((-ax * ax / self.two_sigma2).exp() - self.floor).max(0.0),
             Filter::Mitchell { b, c, .. } => mitchell_1d(2.0 * ax / r, b as f64, c as f64),
             Filter::Lanczos { tau, .. } => sinc(x) * sinc(x / tau as f64),

@@ -45,6 +45,10 @@ pub struct SplatBand {
     /// rows.
     wx: Vec<f32>,
     wy: Vec<f32>,
+    /// Whether [`add`](Self::add) runs its AVX2 build (the CPU has it,
+    /// and `LUCENT_SIMD` allows it).
+    #[cfg(target_arch = "x86_64")]
+    avx2: bool,
 }
 
 impl SplatBand {
@@ -78,6 +82,8 @@ impl SplatBand {
             // more than the image).
             wx: vec![0.0; ((2.0 * radius).ceil() as usize).saturating_add(2).min(width as usize)],
             wy: vec![0.0; ((2.0 * radius).ceil() as usize).saturating_add(2).min(height as usize)],
+            #[cfg(target_arch = "x86_64")]
+            avx2: crate::accel::isa() >= crate::accel::Isa::Avx2,
         }
     }
 
@@ -91,10 +97,28 @@ impl SplatBand {
     /// pixel `px` in the band's row `y + k`.
     #[inline(always)]
     fn add_at(&mut self, k: i64, px: usize, l: Color, aux: &[f32], w: f32) {
+        self.add_at_with::<false>(k, px, l, aux, w);
+    }
+
+    /// [`add_at`](Self::add_at), with the colour's sums added by the AVX2
+    /// kernel where `AVX2` (only in code compiled for AVX2).
+    #[inline(always)]
+    fn add_at_with<const AVX2: bool>(&mut self, k: i64, px: usize, l: Color, aux: &[f32], w: f32) {
         let row = (k - self.first) as usize;
         debug_assert!(row < self.rows, "footprint row {k} outside the band");
         let i = (row * self.width as usize + px) * self.stride;
         let colour: &mut [i64; 4] = (&mut self.sums[i..i + 4]).try_into().expect("4 sums");
+        #[cfg(target_arch = "x86_64")]
+        if AVX2 {
+            // SAFETY: `AVX2` is true only in `add_footprint_avx2`, which
+            // runs only where the CPU has AVX2.
+            unsafe { super::accumulator::add_contribution_avx2(colour, l, w) };
+        } else {
+            for (s, c) in colour.iter_mut().zip(fixed_contribution(l, w)) {
+                *s += c;
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
         for (s, c) in colour.iter_mut().zip(fixed_contribution(l, w)) {
             *s += c;
         }
@@ -121,6 +145,29 @@ impl SplatBand {
             self.add_at(0, x as usize, l, aux, 1.0);
             return;
         }
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is set only where the CPU has AVX2.
+            return unsafe { self.add_footprint_avx2(x, u, l, aux, acc) };
+        }
+        self.add_footprint::<false>(x, u, l, aux, acc);
+    }
+
+    /// [`add_footprint`](Self::add_footprint) compiled for AVX2: the same
+    /// operations in the same order (bit-identical sums; tests compare the
+    /// builds), with the fixed-point conversion in four lanes.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn add_footprint_avx2(&mut self, x: u32, u: Vec2, l: Color, aux: &[f32], acc: &Accumulator) {
+        self.add_footprint::<true>(x, u, l, aux, acc);
+    }
+
+    /// The body of [`add`](Self::add) for filters wider than the pixel box.
+    #[inline(always)]
+    fn add_footprint<const AVX2: bool>(&mut self, x: u32, u: Vec2, l: Color, aux: &[f32], acc: &Accumulator) {
         // The footprint: offsets k with u − ½ − r < k ≤ u − ½ + r. The
         // interval is half open, so a box filter of radius ½ puts every
         // sample in exactly its own pixel, and the offsets are computed from
@@ -132,7 +179,7 @@ impl SplatBand {
             let offset = Vec2::splat(0.5) - u;
             let weight = self.filter.evaluate(offset.x) * self.filter.evaluate(offset.y);
             if weight != 0.0 {
-                self.add_at(0, x as usize, l, aux, weight);
+                self.add_at_with::<AVX2>(0, x as usize, l, aux, weight);
             }
             return;
         }
@@ -142,25 +189,47 @@ impl SplatBand {
         let (kx_lo, kx_hi) = ((k_lo.x as i64).max(-x), (k_hi.x as i64).min(w - 1 - x));
         let (ky_lo, ky_hi) = ((k_lo.y as i64).max(-y), (k_hi.y as i64).min(h - 1 - y));
         // The separable filter's factors: f₁ at each column's and each
-        // row's offset, the very values `Filter::evaluate` multiplies.
+        // row's offset, the very values `Filter::evaluate` multiplies. (The
+        // footprint never holds more columns or rows than `wx` and `wy`.)
+        let (nx, ny) = ((kx_hi - kx_lo + 1).max(0) as usize, (ky_hi - ky_lo + 1).max(0) as usize);
         let filter = self.filter;
-        for (w, kx) in self.wx.iter_mut().zip(kx_lo..=kx_hi) {
-            *w = filter.evaluate(kx as f32 + 0.5 - u.x);
+        let band = self.first..self.first + self.rows as i64;
+        if nx == 2 && ny == 2 && aux.is_empty() && band.contains(&ky_lo) && band.contains(&(ky_lo + 1)) {
+            // The common footprint (a tent of radius 1, a box of radius 1
+            // away from the edges): 2 × 2 pixels of the band, without the
+            // loops. The same weights, added to the same sums.
+            let x0 = (kx_lo as f32 + 0.5 - u.x, (kx_lo + 1) as f32 + 0.5 - u.x);
+            let wx = [filter.evaluate(x0.0), filter.evaluate(x0.1)];
+            let y0 = (ky_lo as f32 + 0.5 - u.y, (ky_lo + 1) as f32 + 0.5 - u.y);
+            let wy = [filter.evaluate(y0.0), filter.evaluate(y0.1)];
+            let px = (x + kx_lo) as usize;
+            for (j, wy) in wy.into_iter().enumerate() {
+                for (i, wx) in wx.into_iter().enumerate() {
+                    let weight = wx * wy;
+                    if weight != 0.0 {
+                        self.add_at_with::<AVX2>(ky_lo + j as i64, px + i, l, aux, weight);
+                    }
+                }
+            }
+            return;
         }
-        for (w, ky) in self.wy.iter_mut().zip(ky_lo..=ky_hi) {
-            *w = filter.evaluate(ky as f32 + 0.5 - u.y);
+        for (i, w) in self.wx[..nx].iter_mut().enumerate() {
+            *w = filter.evaluate((kx_lo + i as i64) as f32 + 0.5 - u.x);
         }
-        for (j, ky) in (ky_lo..=ky_hi).enumerate() {
-            let wy = self.wy[j];
-            let in_band = (self.first..self.first + self.rows as i64).contains(&ky);
-            for (i, kx) in (kx_lo..=kx_hi).enumerate() {
+        for (j, w) in self.wy[..ny].iter_mut().enumerate() {
+            *w = filter.evaluate((ky_lo + j as i64) as f32 + 0.5 - u.y);
+        }
+        for j in 0..ny {
+            let (ky, wy) = (ky_lo + j as i64, self.wy[j]);
+            let in_band = band.contains(&ky);
+            for i in 0..nx {
                 let weight = self.wx[i] * wy;
                 if weight == 0.0 {
                     continue;
                 }
-                let px = (x + kx) as usize;
+                let px = (x + kx_lo) as usize + i;
                 if in_band {
-                    self.add_at(ky, px, l, aux, weight);
+                    self.add_at_with::<AVX2>(ky, px, l, aux, weight);
                 } else {
                     acc.splat_with_aovs(px as u32, (y + ky) as u32, l, aux, weight);
                 }
