@@ -108,19 +108,17 @@ impl SplatBand {
         debug_assert!(row < self.rows, "footprint row {k} outside the band");
         let i = (row * self.width as usize + px) * self.stride;
         let colour: &mut [i64; 4] = (&mut self.sums[i..i + 4]).try_into().expect("4 sums");
-        #[cfg(target_arch = "x86_64")]
-        if AVX2 {
+        if cfg!(target_arch = "x86_64") && AVX2 {
             // SAFETY: `AVX2` is true only in `add_footprint_avx2`, which
             // runs only where the CPU has AVX2.
-            unsafe { super::accumulator::add_contribution_avx2(colour, l, w) };
+            #[cfg(target_arch = "x86_64")]
+            unsafe {
+                super::accumulator::add_contribution_avx2(colour, l, w)
+            };
         } else {
             for (s, c) in colour.iter_mut().zip(fixed_contribution(l, w)) {
                 *s += c;
             }
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        for (s, c) in colour.iter_mut().zip(fixed_contribution(l, w)) {
-            *s += c;
         }
         if !aux.is_empty() {
             self.add_aux(i + 4, aux, w);
