@@ -72,6 +72,8 @@
 // (tests/layers.rs checks this). Blank lines keep rustfmt from sorting them.
 
 // Foundations.
+pub mod memory;
+
 pub mod geometry;
 
 pub mod color;

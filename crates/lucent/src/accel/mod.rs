@@ -12,7 +12,6 @@ mod light_buffer;
 mod pages;
 mod simd;
 
-pub(crate) use bvh::prefetch;
 pub(crate) use pages::{PageArray, ZeroIsValid};
 #[cfg(all(test, target_arch = "x86_64"))]
 pub(crate) use simd::detect as simd_detected;

@@ -5,8 +5,9 @@ use super::watertight::{intersect_block, intersect_block_filtered, TriangleBlock
 use crate::accel::isa;
 #[cfg(target_arch = "x86_64")]
 use crate::accel::Isa;
-use crate::accel::{prefetch, BoxRay, Bvh, PageArray, MAX_LEAF_SIZE};
+use crate::accel::{BoxRay, Bvh, PageArray, MAX_LEAF_SIZE};
 use crate::geometry::{Bounds3, Ray, Vec3};
+use crate::memory::prefetch;
 use crate::mesh::TriangleMesh;
 use rayon::prelude::*;
 

@@ -29,8 +29,6 @@ mod build;
 mod node;
 mod traverse;
 
-pub(crate) use traverse::prefetch;
-
 pub use node::{BvhNode, MAX_LEAF_SIZE, WIDTH};
 pub use traverse::BoxRay;
 

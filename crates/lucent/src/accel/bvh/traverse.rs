@@ -5,6 +5,7 @@ use super::build::MAX_SAH_DEPTH;
 use super::node::{BvhNode, GROUPS, NODE_LINES, WIDTH};
 use super::Bvh;
 use crate::geometry::{gamma, Vec3};
+use crate::memory::prefetch;
 use glam::Vec4;
 
 /// Capacity of the traversal stack: at most `WIDTH - 1` entries are pushed per
@@ -183,25 +184,6 @@ impl Stack {
         // caller's contract).
         Some(unsafe { self.entries[*len].assume_init() })
     }
-}
-
-/// Ask the memory system for the `lines` cache lines at `p` without
-/// waiting for them: a stacked node or leaf is usually visited only after
-/// the nearer subtree, so its memory latency overlaps that work (incoherent
-/// rays miss the caches on most nodes of a large tree).
-#[inline(always)]
-pub fn prefetch<T>(p: *const T, lines: usize) {
-    #[cfg(target_arch = "x86_64")]
-    for line in 0..lines {
-        // SAFETY: a prefetch is a hint; it never faults, whatever address.
-        #[allow(unused_unsafe)]
-        unsafe {
-            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-            _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>().wrapping_add(64 * line));
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (p, lines);
 }
 
 /// Bits of a sort key that hold the child's slot.
