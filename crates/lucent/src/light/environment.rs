@@ -61,6 +61,7 @@ use super::emitter::{LiSample, LightSampleContext};
 use super::equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere, wrap_octahedral_pixel};
 use crate::color::{luminance, Color};
 use crate::geometry::{Transform, Vec2, Vec3};
+use crate::memory::prefetch;
 use crate::sampling::{uniform_sphere, PiecewiseConstant2D};
 use crate::texels::{check_image_size, ImageSizeError, TexelGrid};
 use crate::texture::{read_image, ColorEncoding, ImageError, TextureImage};
@@ -638,6 +639,18 @@ impl EnvironmentMap {
         (l != Color::ZERO).then_some(LiSample { l, wi, pdf, p_light: None })
     }
 
+    /// See [`Environment::prefetch_sample_li`].
+    #[inline]
+    fn prefetch_sample_li(&self, u: Vec2, row: Option<usize>) -> usize {
+        let Some(row) = row else { return self.distribution.prefetch_row(u) };
+        let (first, last) = self.distribution.prefetch_row_bins(row, u.x);
+        // The distribution's cells are the pixels, row by row.
+        let pixels = self.texels.pixels();
+        prefetch(pixels.as_ptr().wrapping_add(first), 1);
+        prefetch(pixels.as_ptr().wrapping_add(last), 1);
+        row
+    }
+
     fn pdf_li(&self, wi: Vec3) -> f32 {
         let uv = self.uv_of(wi);
         self.solid_angle_pdf(uv, self.distribution.pdf(uv))
@@ -771,6 +784,25 @@ impl Environment {
                 Some(LiSample { l: *c, wi: uniform_sphere(u), pdf: 1.0 / (4.0 * PI), p_light: None })
             }
             Environment::Image(map) => map.sample_li(u),
+        }
+    }
+
+    /// Whether this is an image (whose sampling reads large tables).
+    #[inline]
+    pub fn is_image(&self) -> bool {
+        matches!(self, Environment::Image(_))
+    }
+
+    /// Ask for the memory that [`Environment::sample_li`] of `u` will read,
+    /// without waiting for it, in two steps, each taken for many samples
+    /// before any is sampled (see [`PiecewiseConstant2D::prefetch_row`]):
+    /// the first (`step: None`) returns a token for the second
+    /// (`step: Some(token)`). Nothing for a constant environment.
+    #[inline]
+    pub fn prefetch_sample_li(&self, u: Vec2, step: Option<usize>) -> usize {
+        match self {
+            Environment::Image(map) => map.prefetch_sample_li(u, step),
+            Environment::Constant(_) => 0,
         }
     }
 

@@ -14,12 +14,21 @@
 //! few CDF entries between them, with exactly the answer of the full
 //! search, so the sampled points are unchanged.
 //!
+//! **Reading ahead.** [`PiecewiseConstant2D`] keeps its rows' tables in
+//! two flat arrays (the bins, the guide tables), so that a sample's reads
+//! depend on no pointer but the row. For a large table (an environment
+//! map of 512 × 256 has 1 MB of rows) the row's guide entries and bins are
+//! usually cache misses; [`PiecewiseConstant2D::prefetch_row`] and
+//! [`PiecewiseConstant2D::prefetch_row_bins`] let a caller with many
+//! samples to take ask for that memory first, so that the misses overlap.
+//!
 //! **Zero functions.** A function that is zero everywhere (or has no
 //! entries) cannot be normalised. All three types then fall back to the
 //! *uniform* distribution over their domain, so sampling never fails and the
 //! returned pdf is always the density actually used. Negative entries count
 //! by their absolute value and non-finite entries count as zero.
 
+use crate::memory::prefetch;
 use glam::Vec2;
 
 /// Clean up one tabulated value: absolute value, non-finite → 0.
@@ -115,24 +124,6 @@ impl PiecewiseConstant1D {
         guide
     }
 
-    /// The number of CDF entries `≤ u`: the full binary search's answer,
-    /// found within `u`'s guide slice.
-    #[inline]
-    fn cdf_rank(&self, u: f32) -> usize {
-        let slices = self.guide.len() - 1;
-        if !(0.0..1.0).contains(&u) {
-            // Outside [0, 1) (or NaN): the full search.
-            return self.bins.partition_point(|b| b[0] <= u);
-        }
-        // u·K is exact (K is a power of two) and below K.
-        let k = (u * slices as f32) as usize;
-        let lo = self.guide[k] as usize;
-        let hi = self.guide[k + 1] as usize;
-        // Every entry before `lo` is ≤ k/K ≤ u; every entry from `hi` on is
-        // > (k+1)/K > u.
-        lo + self.bins[lo..hi].partition_point(|b| b[0] <= u)
-    }
-
     /// Number of bins.
     pub fn len(&self) -> usize {
         self.bins.len() - 1
@@ -152,18 +143,7 @@ impl PiecewiseConstant1D {
     /// Sample the density with a uniform `u` in `[0, 1)`: the point `x` in
     /// `[0, 1)`, its density, and the index of its bin.
     pub fn sample(&self, u: f32) -> (f32, f32, usize) {
-        let n = self.len();
-        // The last bin whose CDF start is ≤ u; zero-width bins are skipped
-        // because the next bin starts at the same value.
-        let o = self.cdf_rank(u).saturating_sub(1).min(n - 1);
-        let [start, density] = self.bins[o];
-        let width = self.bins[o + 1][0] - start;
-        let mut du = u - start;
-        if width > 0.0 {
-            du /= width;
-        }
-        let x = ((o as f32 + du.clamp(0.0, 1.0)) / n as f32).min(1.0 - f32::EPSILON / 2.0);
-        (x, density, o)
+        sample_table(&self.bins, &self.guide, u)
     }
 
     /// The density at `x` (clamped into `[0, 1]`).
@@ -179,12 +159,69 @@ impl PiecewiseConstant1D {
     }
 }
 
+/// The number of entries of the CDF in `bins` that are `≤ u`: the full
+/// binary search's answer, found within `u`'s slice of the guide table
+/// `guide` (see [`PiecewiseConstant1D`]'s fields).
+#[inline]
+fn cdf_rank(bins: &[[f32; 2]], guide: &[u32], u: f32) -> usize {
+    if !(0.0..1.0).contains(&u) {
+        // Outside [0, 1) (or NaN): the full search.
+        return bins.partition_point(|b| b[0] <= u);
+    }
+    let k = guide_slice(guide, u);
+    let lo = guide[k] as usize;
+    let hi = guide[k + 1] as usize;
+    // Every entry before `lo` is ≤ k/K ≤ u; every entry from `hi` on is
+    // > (k+1)/K > u.
+    lo + bins[lo..hi].partition_point(|b| b[0] <= u)
+}
+
+/// The guide slice `⌊u K⌋` of `u` in `[0, 1)` (`u·K` is exact: `K` is a
+/// power of two), clamped into the table for any other `u`.
+#[inline]
+fn guide_slice(guide: &[u32], u: f32) -> usize {
+    let slices = guide.len() - 1;
+    ((u * slices as f32) as usize).min(slices - 1)
+}
+
+/// The bin that [`sample_table`] picks for `u`: the last bin whose CDF
+/// start is `≤ u` (zero-width bins are skipped, because the next bin
+/// starts at the same value).
+#[inline]
+fn sampled_bin(bins: &[[f32; 2]], guide: &[u32], u: f32) -> usize {
+    cdf_rank(bins, guide, u).saturating_sub(1).min(bins.len() - 2)
+}
+
+/// [`PiecewiseConstant1D::sample`] of the table `bins` with its guide
+/// table `guide`.
+#[inline]
+fn sample_table(bins: &[[f32; 2]], guide: &[u32], u: f32) -> (f32, f32, usize) {
+    let n = bins.len() - 1;
+    let o = sampled_bin(bins, guide, u);
+    let [start, density] = bins[o];
+    let width = bins[o + 1][0] - start;
+    let mut du = u - start;
+    if width > 0.0 {
+        du /= width;
+    }
+    let x = ((o as f32 + du.clamp(0.0, 1.0)) / n as f32).min(1.0 - f32::EPSILON / 2.0);
+    (x, density, o)
+}
+
 /// A piecewise-constant density on `[0, 1]²` over an `nu × nv` grid, sampled
 /// as a marginal density in `v` and a conditional density in `u` for the
 /// chosen row (PBRT 4th ed., §A.5.2): `p(u, v) = p(v) · p(u | v)`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PiecewiseConstant2D {
-    conditional: Vec<PiecewiseConstant1D>,
+    /// The conditional densities `p(u | v)` of the rows, one after the
+    /// other in one array: row `v`'s [`PiecewiseConstant1D`] bins are
+    /// `conditional[v * (nu + 1)..(v + 1) * (nu + 1)]`. (One array rather
+    /// than a table per row: a sample reads a row's bins without first
+    /// reading where they are.)
+    conditional: Vec<[f32; 2]>,
+    /// The rows' guide tables, likewise: `guide_len` entries a row.
+    conditional_guide: Vec<u32>,
+    guide_len: usize,
     marginal: PiecewiseConstant1D,
     /// `p(v) · p(u | v)` of every cell, row by row: what
     /// [`PiecewiseConstant2D::pdf`] returns, with one load instead of a
@@ -202,12 +239,12 @@ impl PiecewiseConstant2D {
     /// If `f.len() != nu * nv` or either size is zero.
     pub fn new(f: &[f32], nu: usize, nv: usize) -> Self {
         assert!(nu > 0 && nv > 0 && f.len() == nu * nv, "table size {} is not {nu} × {nv}", f.len());
-        let conditional: Vec<PiecewiseConstant1D> = f.chunks_exact(nu).map(PiecewiseConstant1D::new).collect();
-        let rows: Vec<f32> = conditional.iter().map(|c| c.integral()).collect();
-        let marginal = PiecewiseConstant1D::new(&rows);
+        let rows: Vec<PiecewiseConstant1D> = f.chunks_exact(nu).map(PiecewiseConstant1D::new).collect();
+        let integrals: Vec<f32> = rows.iter().map(|c| c.integral()).collect();
+        let marginal = PiecewiseConstant1D::new(&integrals);
         // The very products `sample` and `pdf` computed from the two
         // tables, so that they are equal bit for bit.
-        let joint = conditional
+        let joint = rows
             .iter()
             .enumerate()
             .flat_map(|(row, c)| {
@@ -215,7 +252,11 @@ impl PiecewiseConstant2D {
                 c.bins[..nu].iter().map(move |b| pdf_v * b[1])
             })
             .collect();
-        Self { conditional, marginal, joint, nu }
+        // Every row has `nu` bins, so guide tables of one length.
+        let guide_len = rows[0].guide.len();
+        let conditional = rows.iter().flat_map(|c| c.bins.iter().copied()).collect();
+        let conditional_guide = rows.iter().flat_map(|c| c.guide.iter().copied()).collect();
+        Self { conditional, conditional_guide, guide_len, marginal, joint, nu }
     }
 
     /// The integral of the function over `[0, 1]²` (0 for a zero function,
@@ -228,8 +269,54 @@ impl PiecewiseConstant2D {
     /// `u.x` the column): the point and its density.
     pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
         let (v, pdf_v, row) = self.marginal.sample(u.y);
-        let (x, pdf_u, _) = self.conditional[row].sample(u.x);
+        let (bins, guide) = self.row(row);
+        let (x, pdf_u, _) = sample_table(bins, guide, u.x);
         (Vec2::new(x, v), pdf_v * pdf_u)
+    }
+
+    /// Row `row`'s conditional table: its bins and its guide table.
+    #[inline]
+    fn row(&self, row: usize) -> (&[[f32; 2]], &[u32]) {
+        let (b, g) = (self.nu + 1, self.guide_len);
+        (&self.conditional[row * b..(row + 1) * b], &self.conditional_guide[row * g..(row + 1) * g])
+    }
+
+    /// Ask for the memory that [`PiecewiseConstant2D::sample`] of `u`
+    /// will read, without waiting for it, in two steps that the caller
+    /// interleaves over many samples: this first step picks `u`'s row
+    /// (from the marginal table, small and cached), asks for the row's
+    /// guide entries and returns the row, for the second step,
+    /// [`PiecewiseConstant2D::prefetch_row_bins`].
+    ///
+    /// A row is anywhere in the table, so for a large table each step is
+    /// likely a cache miss. A caller that runs the first step for many
+    /// samples, then the second for all of them, then samples them,
+    /// overlaps those misses instead of waiting for each in turn.
+    #[inline]
+    pub fn prefetch_row(&self, u: Vec2) -> usize {
+        let row = sampled_bin(&self.marginal.bins, &self.marginal.guide, u.y);
+        let (_, guide) = self.row(row);
+        let k = guide_slice(guide, u.x);
+        prefetch(guide.as_ptr().wrapping_add(k), 1);
+        row
+    }
+
+    /// The second step of [`PiecewiseConstant2D::prefetch_row`]: read
+    /// row `row`'s guide entries for `u_x` and ask for the bins the
+    /// search will read. Returns the cells (row by row, as
+    /// [`PiecewiseConstant2D::cell`]) among which the sample will fall,
+    /// first and last, for a caller that looks data of the cell up too.
+    #[inline]
+    pub fn prefetch_row_bins(&self, row: usize, u_x: f32) -> (usize, usize) {
+        let (bins, guide) = self.row(row);
+        let k = guide_slice(guide, u_x);
+        // The search reads bins[lo..hi], and the sample falls in bin
+        // rank − 1 with the rank in lo..=hi.
+        let (lo, hi) = (guide[k] as usize, guide[k + 1] as usize);
+        let (first, last) = (lo.saturating_sub(1).min(self.nu - 1), hi.saturating_sub(1).min(self.nu - 1));
+        prefetch(bins.as_ptr().wrapping_add(first), 1);
+        prefetch(bins.as_ptr().wrapping_add(last + 1), 1);
+        (row * self.nu + first, row * self.nu + last)
     }
 
     /// The density at `uv`: exactly what [`PiecewiseConstant2D::sample`]
@@ -415,7 +502,7 @@ mod tests {
                 us.extend([-1.0, -0.0, 1.0, 1.5, f32::NAN, f32::INFINITY, 1.0f32.next_down()]);
                 for u in us {
                     let full = d.bins.partition_point(|b| b[0] <= u);
-                    assert_eq!(d.cdf_rank(u), full, "n {n}, shape {shape}, u {u:e}");
+                    assert_eq!(cdf_rank(&d.bins, &d.guide, u), full, "n {n}, shape {shape}, u {u:e}");
                 }
             }
         }
@@ -503,8 +590,52 @@ mod tests {
                 }
                 for uv in uvs {
                     let row = d.marginal.bin(uv.y);
-                    let product = d.marginal.pdf(uv.y) * d.conditional[row].pdf(uv.x);
+                    let conditional = PiecewiseConstant1D::new(&f[row * nu..(row + 1) * nu]);
+                    let product = d.marginal.pdf(uv.y) * conditional.pdf(uv.x);
                     assert_eq!(d.pdf(uv).to_bits(), product.to_bits(), "{nu}×{nv}, {uv}");
+                }
+            }
+        }
+    }
+
+    /// The prefetch steps name the memory the sample will read: the row
+    /// of `prefetch_row` is the sample's row, and the sample's cell (the
+    /// bins its two searches pick) lies
+    /// between the cells `prefetch_row_bins` returns, for tables with zero
+    /// rows, zero runs and spikes, and samples on the slice boundaries.
+    #[test]
+    fn prefetch_steps_name_the_sampled_row_and_cells() {
+        let mut rng = Pcg32::new(23, 1);
+        for (nu, nv) in [(1, 1), (7, 3), (64, 32), (513, 5)] {
+            for shape in 0..3 {
+                let f: Vec<f32> = (0..nu * nv)
+                    .map(|i| match shape {
+                        0 => rng.uniform(),
+                        1 => ((i / nu) % 2 == 0 && i % 5 == 0) as u8 as f32 * rng.uniform(),
+                        _ => {
+                            if i == nu * nv / 3 {
+                                1e6
+                            } else {
+                                1e-3
+                            }
+                        }
+                    })
+                    .collect();
+                let d = PiecewiseConstant2D::new(&f, nu, nv);
+                let slices = (d.guide_len - 1) as f32;
+                let mut us: Vec<Vec2> = (0..3000).map(|_| Vec2::new(rng.uniform(), rng.uniform())).collect();
+                us.extend((0..d.guide_len - 1).map(|k| Vec2::new(k as f32 / slices, rng.uniform())));
+                us.extend([Vec2::ZERO, Vec2::splat(1.0f32.next_down())]);
+                for u in us {
+                    // The cell the sample's searches pick (the point itself
+                    // may round onto the next cell's edge).
+                    let (_, _, sampled_row) = d.marginal.sample(u.y);
+                    let (bins, guide) = d.row(sampled_row);
+                    let cell = sampled_row * nu + sample_table(bins, guide, u.x).2;
+                    let row = d.prefetch_row(u);
+                    assert_eq!(row, sampled_row, "{nu}×{nv}, shape {shape}, {u}");
+                    let (first, last) = d.prefetch_row_bins(row, u.x);
+                    assert!((first..=last).contains(&cell), "{nu}×{nv}, shape {shape}, {u}: {cell} ∉ {first}..={last}");
                 }
             }
         }
