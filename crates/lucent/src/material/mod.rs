@@ -563,7 +563,17 @@ impl Material {
     /// material's BxDF (its frame is [`Material::resolve`]'s business);
     /// `Mix` and `Interface` cannot scatter without being resolved and give
     /// black.
+    #[inline]
     pub fn bxdf_at(&self, ctx: &TextureContext) -> Bxdf {
+        // The most common material, built in place; the rest out of line.
+        match self {
+            Self::Diffuse { reflectance } => Bxdf::diffuse(unit(reflectance.evaluate(ctx))),
+            _ => self.bxdf_at_any(ctx),
+        }
+    }
+
+    /// [`Material::bxdf_at`] for every material.
+    fn bxdf_at_any(&self, ctx: &TextureContext) -> Bxdf {
         match self {
             Self::Classic(m) => {
                 let albedo = m.kd * m.color.evaluate(ctx);

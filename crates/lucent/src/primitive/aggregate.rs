@@ -16,6 +16,12 @@ use crate::interaction::SurfaceInteraction;
 pub trait Aggregate: Send + Sync {
     /// The nearest hit with `0 < t < t_max`.
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction>;
+    /// [`Aggregate::intersect`], written into `out`: the same answer, built
+    /// where the caller keeps it (the path integrator's per-lane hit slots)
+    /// instead of being returned and copied there.
+    fn intersect_into(&self, ray: &Ray, t_max: f32, out: &mut Option<SurfaceInteraction>) {
+        *out = self.intersect(ray, t_max);
+    }
     /// Whether anything is hit with `0 < t < t_max` (shadow rays: may stop at
     /// the first hit found).
     fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool;
@@ -123,9 +129,10 @@ impl BvhAggregate {
 fn closest_of(prims: &[Primitive], ray: &Ray, t_max: &mut f32, closest: &mut Option<SurfaceInteraction>) -> bool {
     let mut hit = false;
     for prim in prims {
-        if let Some(si) = prim.intersect(ray, *t_max) {
-            *t_max = si.t;
-            *closest = Some(si);
+        if prim.intersect_closer(ray, *t_max, closest) {
+            if let Some(si) = closest {
+                *t_max = si.t;
+            }
             hit = true;
         }
     }
@@ -139,9 +146,9 @@ impl BvhAggregate {
     /// The CPU must have AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-    unsafe fn intersect_avx2(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
+    unsafe fn intersect_avx2(&self, ray: &Ray, t_max: f32, closest: &mut Option<SurfaceInteraction>) {
         // SAFETY: the caller checked AVX2 (which includes AVX).
-        unsafe { self.intersect_as::<true, 2>(ray, t_max) }
+        unsafe { self.intersect_as::<true, 2>(ray, t_max, closest) }
     }
 
     /// [`Aggregate::intersect`] compiled for AVX-512 (see `accel::simd`).
@@ -150,9 +157,9 @@ impl BvhAggregate {
     /// The CPU must have the features of `Isa::Avx512`.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
-    unsafe fn intersect_avx512(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
+    unsafe fn intersect_avx512(&self, ray: &Ray, t_max: f32, closest: &mut Option<SurfaceInteraction>) {
         // SAFETY: the caller checked AVX-512 (which includes AVX).
-        unsafe { self.intersect_as::<true, 3>(ray, t_max) }
+        unsafe { self.intersect_as::<true, 3>(ray, t_max, closest) }
     }
 
     /// [`Aggregate::intersect_p`] compiled for AVX2.
@@ -177,7 +184,8 @@ impl BvhAggregate {
         unsafe { self.intersect_p_as::<true, 3>(ray, t_max) }
     }
 
-    /// The closest hit, with the box test of [`Bvh::traverse_closest_as`].
+    /// The closest hit, into `closest` (`None` without one), with the box
+    /// test of [`Bvh::traverse_closest_as`].
     ///
     /// `BUILD` is the build's `Isa` as a number. It only gives each build
     /// its own copy of this function: with one copy shared by the AVX2 and
@@ -192,10 +200,11 @@ impl BvhAggregate {
         &self,
         ray: &Ray,
         t_max: f32,
-    ) -> Option<SurfaceInteraction> {
+        closest: &mut Option<SurfaceInteraction>,
+    ) {
         let mut t_max = t_max;
-        let mut closest = None;
-        closest_of(&self.unbounded, ray, &mut t_max, &mut closest);
+        *closest = None;
+        closest_of(&self.unbounded, ray, &mut t_max, closest);
         let box_ray = BoxRay::new(ray.origin, ray.dir);
         // Box tests use a closed interval; primitives keep t < t_max open.
         // SAFETY: passed on from the caller.
@@ -206,11 +215,10 @@ impl BvhAggregate {
                 &mut t_max,
                 |_| {},
                 |first, count, t_max| {
-                    closest_of(&self.bounded[first as usize..(first + count) as usize], ray, t_max, &mut closest)
+                    closest_of(&self.bounded[first as usize..(first + count) as usize], ray, t_max, closest)
                 },
             )
         };
-        closest
     }
 
     /// Whether anything is hit, with the box test of
@@ -247,10 +255,18 @@ impl BvhAggregate {
 
 impl Aggregate for BvhAggregate {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
+        let mut closest = None;
+        self.intersect_into(ray, t_max, &mut closest);
+        closest
+    }
+
+    fn intersect_into(&self, ray: &Ray, t_max: f32, closest: &mut Option<SurfaceInteraction>) {
         if let ([only], []) = (self.bounded.as_slice(), self.unbounded.as_slice()) {
             // One primitive (such as the mesh a scene's loose triangles
             // were merged into): its own bounds test is all the BVH adds.
-            return only.intersect(ray, t_max);
+            *closest = None;
+            only.intersect_closer(ray, t_max, closest);
+            return;
         }
         // A tree of one node is one box test: the AVX builds would save a
         // few instructions there and cost a call (measured: the showcase
@@ -260,14 +276,14 @@ impl Aggregate for BvhAggregate {
             // SAFETY: each build runs only where `isa` found its features.
             match isa() {
                 // SAFETY: `isa` detected the x86-64-v3 features and AVX-512 F, VL, BW, DQ here.
-                Isa::Avx512 => return unsafe { self.intersect_avx512(ray, t_max) },
+                Isa::Avx512 => return unsafe { self.intersect_avx512(ray, t_max, closest) },
                 // SAFETY: `isa` detected the x86-64-v3 features (AVX2, FMA, BMI1/2, LZCNT, POPCNT) here.
-                Isa::Avx2 => return unsafe { self.intersect_avx2(ray, t_max) },
+                Isa::Avx2 => return unsafe { self.intersect_avx2(ray, t_max, closest) },
                 Isa::Portable => {}
             }
         }
         // SAFETY: the portable build needs no CPU feature.
-        unsafe { self.intersect_as::<false, 1>(ray, t_max) }
+        unsafe { self.intersect_as::<false, 1>(ray, t_max, closest) }
     }
 
     fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
@@ -473,10 +489,12 @@ mod tests {
                 for _ in 0..3000 {
                     let ray = Ray::new(v(&mut rng, 8.0), v(&mut rng, 1.0));
                     let t_max = if rng.uniform() < 0.3 { 8.0 * rng.uniform() } else { f32::INFINITY };
+                    let (mut portable, mut avx2) = (None, None);
                     // SAFETY: the portable build needs nothing; AVX2 was detected.
-                    let (portable, avx2) = unsafe {
-                        (aggregate.intersect_as::<false, 1>(&ray, t_max), aggregate.intersect_avx2(&ray, t_max))
-                    };
+                    unsafe {
+                        aggregate.intersect_as::<false, 1>(&ray, t_max, &mut portable);
+                        aggregate.intersect_avx2(&ray, t_max, &mut avx2);
+                    }
                     let key = |h: Option<SurfaceInteraction>| h.map(|h| (h.t, h.p, h.n));
                     let portable = key(portable);
                     assert_eq!(portable, key(avx2), "{n}: {ray:?}");
@@ -486,9 +504,11 @@ mod tests {
                     };
                     assert_eq!(any_portable, any_avx2, "{n}: {ray:?}");
                     if avx512 {
+                        let mut closest = None;
                         // SAFETY: AVX-512 was detected.
-                        let (closest, any) = unsafe {
-                            (aggregate.intersect_avx512(&ray, t_max), aggregate.intersect_p_avx512(&ray, t_max))
+                        let any = unsafe {
+                            aggregate.intersect_avx512(&ray, t_max, &mut closest);
+                            aggregate.intersect_p_avx512(&ray, t_max)
                         };
                         assert_eq!(portable, key(closest), "{n}: {ray:?}");
                         assert_eq!(any_portable, any, "{n}: {ray:?}");

@@ -239,16 +239,48 @@ impl Primitive {
     /// inverse transpose.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
+        let mut hit = None;
+        self.intersect_closer(ray, t_max, &mut hit);
+        hit
+    }
+
+    /// [`Primitive::intersect`] for a caller that keeps the closest hit so
+    /// far in `closest`: a hit with `0 < t < t_max` is written there (and
+    /// `true` returned); without one, `closest` is left as it was. An
+    /// untransformed mesh without alpha, the common case, builds its hit
+    /// record in `closest` itself, so that it is not copied on its way up
+    /// (see [`Aggregate::intersect_into`](crate::primitive::Aggregate::intersect_into)).
+    #[inline]
+    pub fn intersect_closer(&self, ray: &Ray, t_max: f32, closest: &mut Option<SurfaceInteraction>) -> bool {
+        if let (None, None, Shape::Mesh(mesh)) = (&self.transform, &self.alpha, &self.shape) {
+            let Some(hit) = mesh.intersect_triangle(ray, t_max) else { return false };
+            *closest = Some(self.interaction(mesh.hit_record(&hit), None));
+            return true;
+        }
+        self.intersect_closer_any(ray, t_max, closest)
+    }
+
+    /// [`Primitive::intersect_closer`] for any transform, alpha and shape.
+    fn intersect_closer_any(&self, ray: &Ray, t_max: f32, closest: &mut Option<SurfaceInteraction>) -> bool {
         let (hit, t) = match (&self.transform, &self.alpha) {
-            (None, None) => (self.shape.intersect(ray, t_max)?, None),
-            (Some(t), None) => (self.shape.intersect(&t.ray_to_object(ray), t_max)?, Some(t)),
+            (None, None) => (self.shape.intersect(ray, t_max), None),
+            (Some(t), None) => (self.shape.intersect(&t.ray_to_object(ray), t_max), Some(t)),
             (t, Some(alpha)) => {
                 let object_ray = t.map(|t| t.ray_to_object(ray));
                 let u = ray_hash(ray);
                 let mut accept = |h: &ShapeHit| self.alpha_accepts(alpha, t.as_ref(), h, u);
-                (self.shape.intersect_filtered(object_ray.as_ref().unwrap_or(ray), t_max, &mut accept)?, t.as_ref())
+                (self.shape.intersect_filtered(object_ray.as_ref().unwrap_or(ray), t_max, &mut accept), t.as_ref())
             }
         };
+        let Some(hit) = hit else { return false };
+        *closest = Some(self.interaction(hit, t));
+        true
+    }
+
+    /// The surface interaction of the shape's hit `hit` (in object space
+    /// under the transform `t`).
+    #[inline(always)]
+    fn interaction(&self, hit: ShapeHit, t: Option<&Transform>) -> SurfaceInteraction {
         let (p, p_error, mut n, mut ns, dpdu, dpdv) = match t {
             None => (hit.p, hit.p_error, hit.n, hit.ns, hit.dpdu, hit.dpdv),
             Some(t) => {
@@ -261,7 +293,7 @@ impl Primitive {
         if self.reverse_orientation {
             (n, ns) = (-n, -ns);
         }
-        Some(SurfaceInteraction {
+        SurfaceInteraction {
             t: hit.t,
             p,
             p_error,
@@ -277,14 +309,17 @@ impl Primitive {
                 Some(table) => table.get(hit.face as usize).copied().filter(|&l| l != NO_LIGHT),
             },
             media: self.media,
-        })
+        }
     }
 
     /// Whether any hit with `0 < t < t_max` exists.
     #[inline]
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
         match (&self.transform, &self.alpha) {
-            (None, None) => self.shape.intersect_p(ray, t_max),
+            (None, None) => match &self.shape {
+                Shape::Mesh(mesh) => mesh.intersect_p(ray, t_max),
+                shape => shape.intersect_p(ray, t_max),
+            },
             (Some(t), None) => self.shape.intersect_p(&t.ray_to_object(ray), t_max),
             (t, Some(alpha)) => {
                 let object_ray = t.map(|t| t.ray_to_object(ray));

@@ -182,6 +182,13 @@ impl Scene {
         self.aggregate.intersect(ray, t_max)
     }
 
+    /// [`Scene::intersect`], written into `out` (see
+    /// [`Aggregate::intersect_into`]).
+    #[inline]
+    pub fn intersect_into(&self, ray: &Ray, t_max: f32, out: &mut Option<SurfaceInteraction>) {
+        self.aggregate.intersect_into(ray, t_max, out)
+    }
+
     /// Whether anything blocks `ray` for `0 < t < t_max`.
     #[inline]
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {

@@ -1,4 +1,4 @@
-use super::mesh_bvh::MeshBvh;
+use super::mesh_bvh::{MeshBvh, MeshHit};
 use super::triangle::triangle_dpduv;
 use super::{ShapeError, ShapeHit};
 use crate::color::Color;
@@ -296,13 +296,26 @@ impl Mesh {
         ShapeHit { t, p, p_error, n, ns, uv, dpdu, dpdv, face, attributes }
     }
 
+    /// The nearest hit with `0 < t < t_max` as the BVH finds it (distance,
+    /// triangle, barycentrics), before its hit record is built
+    /// ([`Mesh::hit_record`]).
+    #[inline]
+    pub fn intersect_triangle(&self, ray: &Ray, t_max: f32) -> Option<MeshHit> {
+        self.bvh.intersect(ray, 0.0, t_max).filter(|hit| hit.t < t_max)
+    }
+
+    /// The hit record of a hit that [`Mesh::intersect_triangle`] found:
+    /// what [`Mesh::intersect`] returns for it. Inlined into its caller, so
+    /// that the record is built where it is used instead of being copied
+    /// up through each layer of the query.
+    #[inline(always)]
+    pub fn hit_record(&self, hit: &MeshHit) -> ShapeHit {
+        self.hit_at(hit.t, hit.triangle, hit.b)
+    }
+
     /// The nearest hit with `0 < t < t_max`.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
-        let hit = self.bvh.intersect(ray, 0.0, t_max)?;
-        if hit.t >= t_max {
-            return None;
-        }
-        Some(self.hit_at(hit.t, hit.triangle, hit.b))
+        self.intersect_triangle(ray, t_max).map(|hit| self.hit_record(&hit))
     }
 
     /// The nearest hit with `0 < t < t_max` among those `accept` lets
@@ -320,6 +333,7 @@ impl Mesh {
     }
 
     /// Whether any triangle is hit with `0 < t < t_max`.
+    #[inline]
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
         // The BVH's interval is closed; shrink it by one float to keep t_max out.
         self.bvh.occluded(ray, 0.0, t_max.next_down())

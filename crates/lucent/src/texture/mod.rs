@@ -404,6 +404,15 @@ impl Texture {
     /// The colour at `ctx`.
     #[inline]
     pub fn evaluate(&self, ctx: &TextureContext) -> Color {
+        // The common constant is read in place; the rest out of line.
+        match self {
+            Texture::Constant(c) => *c,
+            _ => self.evaluate_varying(ctx),
+        }
+    }
+
+    /// [`Texture::evaluate`] for every kind of texture.
+    fn evaluate_varying(&self, ctx: &TextureContext) -> Color {
         match self {
             Texture::Constant(c) => *c,
             Texture::Checker { even, odd, scale } => {

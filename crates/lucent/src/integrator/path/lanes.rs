@@ -173,18 +173,12 @@ impl<'a> EnvironmentPrefetch<'a> {
     /// specular and whose light pick is the environment. (Both steps run
     /// once a bounce, out of line, so that profiles show their cost.)
     #[inline(never)]
-    fn start(
-        &mut self,
-        scene: &Scene,
-        vertices: &[Option<(SurfaceInteraction, Bsdf)>],
-        u: &[VertexSamples],
-        shade: &[u8],
-    ) {
+    fn start(&mut self, scene: &Scene, bsdfs: &[Option<Bsdf>], u: &[VertexSamples], shade: &[u8]) {
         let lights = scene.light_set();
         self.len = 0;
         for &lane in shade {
             let i = lane as usize;
-            let Some((_, bsdf)) = &vertices[i] else { continue };
+            let Some(bsdf) = &bsdfs[i] else { continue };
             if !bsdf.is_specular() && lights.sample(u[i].light).is_some_and(|(l, _)| l == self.index) {
                 self.lanes[self.len] = (lane, self.env.prefetch_sample_li(u[i].point, None));
                 self.len += 1;
@@ -221,7 +215,10 @@ impl PathIntegrator {
             *path = PathState::new(ray, medium);
         }
         stats.camera += n as u64;
-        let mut vertices: [Option<(SurfaceInteraction, Bsdf)>; PATH_LANES] = [None; PATH_LANES];
+        // Each lane's vertex: the surface its ray hit and the BSDF there
+        // (both written by the surface stage for the lanes it shades).
+        let mut hits: [Option<SurfaceInteraction>; PATH_LANES] = [None; PATH_LANES];
+        let mut bsdfs: [Option<Bsdf>; PATH_LANES] = [None; PATH_LANES];
         let mut u = [VertexSamples::default(); PATH_LANES];
         let mut interfaces: Option<bool> = None;
         let mut live = LaneList::first(n);
@@ -234,7 +231,7 @@ impl PathIntegrator {
             let mut escape = LaneList::empty();
             for &lane in live.as_slice() {
                 let i = lane as usize;
-                match self.surface(scene, &mut paths[i], &mut vertices[i], &mut samplers[i], stats) {
+                match self.surface(scene, &mut paths[i], &mut hits[i], &mut bsdfs[i], &mut samplers[i], stats) {
                     Surface::End => {}
                     Surface::Escape => escape.push(i),
                     Surface::Trace => next.push(i),
@@ -248,7 +245,7 @@ impl PathIntegrator {
             // ask for them now, and let the escaped lanes' work pass while
             // they arrive.
             if let Some(prefetch) = &mut env_prefetch {
-                prefetch.start(scene, &vertices, &u, shade.as_slice());
+                prefetch.start(scene, &bsdfs, &u, shade.as_slice());
             }
             if escape.len > 0 {
                 self.escape(scene, &mut paths, escape.as_slice());
@@ -260,7 +257,7 @@ impl PathIntegrator {
                 }
                 for &lane in shade.as_slice() {
                     let i = lane as usize;
-                    let Some((si, bsdf)) = &vertices[i] else { continue };
+                    let (Some(si), Some(bsdf)) = (&hits[i], &bsdfs[i]) else { continue };
                     if bsdf.is_specular() {
                         continue;
                     }
@@ -286,7 +283,7 @@ impl PathIntegrator {
             // 4. Continue by sampling the BSDF.
             for &lane in shade.as_slice() {
                 let i = lane as usize;
-                let Some((si, bsdf)) = &vertices[i] else { continue };
+                let (Some(si), Some(bsdf)) = (&hits[i], &bsdfs[i]) else { continue };
                 if self.scatter(&mut paths[i], si, bsdf, &u[i], stats) {
                     next.push(i);
                 }
@@ -300,17 +297,21 @@ impl PathIntegrator {
 
     /// The surface stage for one lane: trace its ray, cross the medium up
     /// to the hit, add the light the ray finds, and resolve the material
-    /// (into `vertex`, for [`Surface::Shade`]).
+    /// (into `hit` and `bsdf`, for [`Surface::Shade`]). Both are written
+    /// where they are computed and read from there, so that the hit record
+    /// and the BSDF are not copied on their way (each is written by the
+    /// call that makes it straight into the lane's slot).
     fn surface(
         &self,
         scene: &Scene,
         path: &mut PathState,
-        vertex: &mut Option<(SurfaceInteraction, Bsdf)>,
+        hit: &mut Option<SurfaceInteraction>,
+        bsdf: &mut Option<Bsdf>,
         sampler: &mut Sampler,
         stats: &mut RayStats,
     ) -> Surface {
         let ray = path.ray;
-        let hit = scene.intersect(&ray, f32::INFINITY);
+        scene.intersect_into(&ray, f32::INFINITY, hit);
         if let Some(m) = path.medium {
             // The segment up to the hit (or infinity) in a medium: it may
             // scatter on the way, or pass with its transmittance. (Out of
@@ -351,7 +352,7 @@ impl PathIntegrator {
             }
         }
         let lights = scene.light_set();
-        let Some(si) = hit else {
+        let Some(si) = hit.as_ref() else {
             // The ray leaves the scene: environment light, if any.
             return if scene.environment_light().is_some() { Surface::Escape } else { Surface::End };
         };
@@ -376,8 +377,9 @@ impl PathIntegrator {
         }
         // The material at the hit; an interface is no surface: go on
         // through it without counting a bounce.
-        let mctx = material_context(&si, wo);
-        let Some(mut bsdf) = scene.material(si.material).bsdf_at(&mctx, scene.materials()) else {
+        let mctx = material_context(si, wo);
+        *bsdf = scene.material(si.material).bsdf_at(&mctx, scene.materials());
+        let Some(bsdf) = bsdf.as_mut() else {
             path.skips += 1;
             if path.skips > MAX_INTERFACE_SKIPS {
                 return Surface::End;
@@ -395,7 +397,6 @@ impl PathIntegrator {
         if self.regularize && path.any_non_specular {
             bsdf.regularize();
         }
-        *vertex = Some((si, bsdf));
         Surface::Shade
     }
 
