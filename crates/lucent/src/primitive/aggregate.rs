@@ -450,6 +450,69 @@ mod tests {
     use crate::shapes::{Mesh, Plane, Shape, Sphere};
     use std::sync::Arc;
 
+    /// The nearest hit written into a slot (`intersect_into`) is the one
+    /// returned (`intersect`), whatever the slot held before, for one
+    /// untransformed mesh (the short path that builds the record in
+    /// place), one placed mesh, and many primitives of every kind; and a
+    /// primitive's `intersect_closer` leaves the slot alone on a miss.
+    #[test]
+    fn hits_written_in_place_equal_returned_ones() {
+        let mut rng = Pcg32::new(12, 3);
+        let v = |rng: &mut Pcg32, s: f32| {
+            Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * (2.0 * s)
+        };
+        let m = MaterialId::new(0);
+        let mut tri = TriangleMesh::default();
+        for i in 0..40 {
+            let c = v(&mut rng, 1.0);
+            tri.positions.extend([c + v(&mut rng, 0.4), c + v(&mut rng, 0.4), c + v(&mut rng, 0.4)]);
+            tri.indices.push([3 * i, 3 * i + 1, 3 * i + 2]);
+        }
+        let mesh = Arc::new(Mesh::new(tri).unwrap());
+        let one = vec![Primitive::new(Shape::Mesh(mesh.clone()), Transform::IDENTITY, m)];
+        let placed = vec![Primitive::new(Shape::Mesh(mesh.clone()), Transform::translate(Vec3::new(0.3, 0.0, 0.1)), m)];
+        let mut many =
+            vec![Primitive::new(Plane::new(Vec3::new(0.0, -1.5, 0.0), Vec3::Y).unwrap(), Transform::IDENTITY, m)];
+        for i in 0..20 {
+            let at = Transform::translate(v(&mut rng, 2.0));
+            many.push(if i % 3 == 0 {
+                Primitive::new(Sphere::new(Vec3::ZERO, 0.1 + 0.3 * rng.uniform()).unwrap(), at, m)
+            } else if i % 3 == 1 {
+                Primitive::new(Shape::Mesh(mesh.clone()), at, m)
+            } else {
+                Primitive::new(Shape::Mesh(mesh.clone()), Transform::IDENTITY, m)
+            });
+        }
+        let (mut hits, mut misses) = (0, 0);
+        for prims in [&one, &placed, &many] {
+            let aggregate = BvhAggregate::new(prims);
+            let mut stale = None;
+            for _ in 0..4000 {
+                let ray = Ray::new(v(&mut rng, 3.0), v(&mut rng, 1.0));
+                let t_max = if rng.uniform() < 0.3 { 3.0 * rng.uniform() } else { f32::INFINITY };
+                let returned = aggregate.intersect(&ray, t_max);
+                // The slot holds the previous ray's answer.
+                let mut slot = stale;
+                aggregate.intersect_into(&ray, t_max, &mut slot);
+                assert_eq!(slot, returned, "{ray:?} {t_max}");
+                stale = returned.or(stale);
+                for prim in prims.iter() {
+                    let alone = prim.intersect(&ray, t_max);
+                    let mut slot = stale;
+                    let found = prim.intersect_closer(&ray, t_max, &mut slot);
+                    assert_eq!(found, alone.is_some());
+                    assert_eq!(slot, if found { alone } else { stale });
+                }
+                if returned.is_some() {
+                    hits += 1;
+                } else {
+                    misses += 1;
+                }
+            }
+        }
+        assert!(hits > 1000 && misses > 1000, "{hits} hits, {misses} misses");
+    }
+
     /// The AVX2 and AVX-512 builds of the top-level queries answer as the
     /// portable one, bit for bit, on scenes of 2 to 200 primitives (one-node
     /// trees and deeper ones) with spheres, meshes and a plane.
