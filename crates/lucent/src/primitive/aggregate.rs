@@ -450,6 +450,23 @@ mod tests {
     use crate::shapes::{Mesh, Plane, Shape, Sphere};
     use std::sync::Arc;
 
+    /// A point of the cube `[−s, s]³`.
+    fn random_point(rng: &mut Pcg32, s: f32) -> Vec3 {
+        Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * (2.0 * s)
+    }
+
+    /// A mesh of `n` random triangles, each within 0.4 of a point of the
+    /// cube `[−1, 1]³`.
+    fn random_triangles(rng: &mut Pcg32, n: u32) -> Arc<Mesh> {
+        let mut tri = TriangleMesh::default();
+        for i in 0..n {
+            let c = random_point(rng, 1.0);
+            tri.positions.extend([c + random_point(rng, 0.4), c + random_point(rng, 0.4), c + random_point(rng, 0.4)]);
+            tri.indices.push([3 * i, 3 * i + 1, 3 * i + 2]);
+        }
+        Arc::new(Mesh::new(tri).unwrap())
+    }
+
     /// The nearest hit written into a slot (`intersect_into`) is the one
     /// returned (`intersect`), whatever the slot held before, for one
     /// untransformed mesh (the short path that builds the record in
@@ -458,17 +475,9 @@ mod tests {
     #[test]
     fn hits_written_in_place_equal_returned_ones() {
         let mut rng = Pcg32::new(12, 3);
-        let v = |rng: &mut Pcg32, s: f32| {
-            Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * (2.0 * s)
-        };
+        let v = random_point;
         let m = MaterialId::new(0);
-        let mut tri = TriangleMesh::default();
-        for i in 0..40 {
-            let c = v(&mut rng, 1.0);
-            tri.positions.extend([c + v(&mut rng, 0.4), c + v(&mut rng, 0.4), c + v(&mut rng, 0.4)]);
-            tri.indices.push([3 * i, 3 * i + 1, 3 * i + 2]);
-        }
-        let mesh = Arc::new(Mesh::new(tri).unwrap());
+        let mesh = random_triangles(&mut rng, 40);
         let one = vec![Primitive::new(Shape::Mesh(mesh.clone()), Transform::IDENTITY, m)];
         let placed = vec![Primitive::new(Shape::Mesh(mesh.clone()), Transform::translate(Vec3::new(0.3, 0.0, 0.1)), m)];
         let mut many =
@@ -522,17 +531,9 @@ mod tests {
         if crate::accel::simd_detected() >= Isa::Avx2 {
             let avx512 = crate::accel::simd_detected() == Isa::Avx512;
             let mut rng = Pcg32::new(8, 8);
-            let v = |rng: &mut Pcg32, s: f32| {
-                Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * (2.0 * s)
-            };
+            let v = random_point;
             let m = MaterialId::new(0);
-            let mut tri = TriangleMesh::default();
-            for i in 0..30 {
-                let c = v(&mut rng, 1.0);
-                tri.positions.extend([c + v(&mut rng, 0.4), c + v(&mut rng, 0.4), c + v(&mut rng, 0.4)]);
-                tri.indices.push([3 * i, 3 * i + 1, 3 * i + 2]);
-            }
-            let mesh = Arc::new(Mesh::new(tri).unwrap());
+            let mesh = random_triangles(&mut rng, 30);
             let mut hits = 0;
             for n in [2usize, 5, 40, 200] {
                 let mut prims = vec![Primitive::new(
