@@ -352,12 +352,23 @@ impl PiecewiseConstant2D {
 /// slot `i` uniformly, keep `i` with probability `q_i`, otherwise take `a_i`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AliasTable {
-    /// Chance of keeping slot `i`.
-    keep: Vec<f32>,
-    /// The other item of slot `i`.
-    alias: Vec<u32>,
+    /// The slots, each with everything a choice reads: one load.
+    slots: Vec<AliasSlot>,
     /// The normalised probabilities.
     pmf: Vec<f32>,
+    /// The number of slots as a float, for [`AliasTable::sample`].
+    n: f64,
+}
+
+/// One slot of an [`AliasTable`]: its item is kept with probability
+/// `keep`, otherwise its alias is taken; the probabilities of both items
+/// are stored beside them, so that a choice reads one slot and nothing else.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct AliasSlot {
+    keep: f32,
+    alias: u32,
+    pmf: f32,
+    alias_pmf: f32,
 }
 
 impl AliasTable {
@@ -396,11 +407,16 @@ impl AliasTable {
             keep[i] = 1.0;
             alias[i] = i as u32;
         }
-        Self {
-            keep: keep.into_iter().map(|k| k as f32).collect(),
-            alias,
-            pmf: pmf64.into_iter().map(|p| p as f32).collect(),
-        }
+        let pmf: Vec<f32> = pmf64.into_iter().map(|p| p as f32).collect();
+        let slots = (0..n)
+            .map(|i| AliasSlot {
+                keep: keep[i] as f32,
+                alias: alias[i],
+                pmf: pmf[i],
+                alias_pmf: pmf[alias[i] as usize],
+            })
+            .collect();
+        Self { slots, pmf, n: n as f64 }
     }
 
     /// Number of items.
@@ -416,16 +432,17 @@ impl AliasTable {
     /// Choose an item with a uniform `u` in `[0, 1)`: its index and
     /// probability. `None` for an empty table. The slot comes from the
     /// integer part of `u·n` and the keep/alias decision from the fraction.
+    #[inline]
     pub fn sample(&self, u: f32) -> Option<(usize, f32)> {
-        let n = self.pmf.len();
-        if n == 0 {
-            return None;
-        }
-        let scaled = u.clamp(0.0, 1.0) as f64 * n as f64;
-        let slot = (scaled as usize).min(n - 1);
+        let last = self.slots.len().checked_sub(1)?;
+        // u·n is exact in f64 (a 24-bit fraction times n < 2³²), and so is
+        // its fraction. (Slot numbers fit in u32, whose conversions to and
+        // from f64 are single instructions, unlike usize's.)
+        let scaled = u.clamp(0.0, 1.0) as f64 * self.n;
+        let slot = (scaled as u32).min(last as u32);
         let frac = (scaled - slot as f64) as f32;
-        let i = if frac < self.keep[slot] { slot } else { self.alias[slot] as usize };
-        Some((i, self.pmf[i]))
+        let s = &self.slots[slot as usize];
+        Some(if frac < s.keep { (slot as usize, s.pmf) } else { (s.alias as usize, s.alias_pmf) })
     }
 
     /// Probability of item `i` (0 when out of range).
@@ -663,5 +680,31 @@ mod tests {
         }
         assert_eq!(hist[1], 0);
         assert_eq!(t.pmf(99), 0.0);
+    }
+
+    /// A choice takes the slot from the integer part of `u·n` and decides
+    /// between the slot's item and its alias by the fraction, both computed
+    /// in f64: the packed slots and the 32-bit conversions of
+    /// [`AliasTable::sample`] give that choice for every `u`, the ends and
+    /// values outside `[0, 1)` included.
+    #[test]
+    fn alias_table_choice_is_the_integer_and_fraction_of_u_n() {
+        let mut rng = Pcg32::new(8, 1);
+        for n in [1usize, 2, 3, 7, 64, 1000, 4099] {
+            let w: Vec<f32> = (0..n).map(|i| if i % 5 == 3 { 0.0 } else { rng.uniform() + 0.01 }).collect();
+            let t = AliasTable::new(&w);
+            let mut us: Vec<f32> = (0..20_000).map(|_| rng.uniform()).collect();
+            us.extend((0..=n).map(|k| k as f32 / n as f32));
+            us.extend([0.0, -0.0, 1.0f32.next_down(), 1.0, 1.5, -0.5, f32::INFINITY, f32::NAN]);
+            for u in us {
+                let scaled = u.clamp(0.0, 1.0) as f64 * n as f64;
+                let slot = (scaled as usize).min(n - 1);
+                let frac = (scaled - slot as f64) as f32;
+                let s = &t.slots[slot];
+                let i = if frac < s.keep { slot } else { s.alias as usize };
+                assert_eq!(t.sample(u), Some((i, t.pmf(i))), "n = {n}, u = {u}");
+            }
+        }
+        assert_eq!(AliasTable::new(&[]).sample(0.5), None);
     }
 }
