@@ -318,8 +318,32 @@ impl Sampler {
             self.dimension += 5;
             return (self.index_premixed, [a, b, c, e, f]);
         }
-        let seeds = std::array::from_fn(|_| self.dimension_seeds());
-        (self.index_premixed, seeds)
+        (self.index_premixed, self.vertex_seeds_hashed())
+    }
+
+    /// The scramble seeds of the vertex's five dimensions when the pixel's
+    /// table lacks some (the first sample of a pixel in a pass, or a path
+    /// deeper than the pixel's earlier ones): what five calls of
+    /// [`Sampler::dimension_seeds`] return and keep, with the five hashes
+    /// independent of each other, so that they run side by side.
+    #[inline(never)]
+    fn vertex_seeds_hashed(&mut self) -> [[u32; 3]; 5] {
+        let d = self.dimension;
+        self.dimension = d.wrapping_add(5);
+        let seeds: [[u32; 3]; 5] = std::array::from_fn(|k| {
+            let dk = d.wrapping_add(k as u32);
+            match self.seeds.get(dk as usize) {
+                Some(&kept) => kept,
+                None => dimension_hash(self.pixel_hash, dk),
+            }
+        });
+        for (k, &s) in seeds.iter().enumerate() {
+            let dk = d.wrapping_add(k as u32) as usize;
+            if self.seeds.len() == dk && dk < MAX_KEPT_DIMENSIONS {
+                self.seeds.push(s);
+            }
+        }
+        seeds
     }
 
     /// The sample's position within the pixel filter's support: the first
@@ -340,7 +364,7 @@ impl Sampler {
         if let Some(&seeds) = self.seeds.get(d as usize) {
             return seeds;
         }
-        let seeds = dimension_hash(self.pixel_hash, d);
+        let seeds = dimension_hash_out_of_line(self.pixel_hash, d);
         if self.seeds.len() == d as usize && self.seeds.len() < MAX_KEPT_DIMENSIONS {
             self.seeds.push(seeds);
         }
@@ -372,11 +396,18 @@ const MAX_KEPT_DIMENSIONS: usize = 1024;
 /// coordinate, second coordinate) of the pixel with `pixel_hash`: two
 /// SplitMix64 finalisations of (pixel hash, dimension) give 128 well-mixed
 /// bits, of which 96 are used.
-#[inline(never)]
+#[inline(always)]
 fn dimension_hash(pixel_hash: u64, d: u32) -> [u32; 3] {
     let a = splitmix64(pixel_hash ^ (d as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
     let b = splitmix64(a ^ 0xD1B5_4A32_D192_ED03);
     [a as u32, (a >> 32) as u32, b as u32]
+}
+
+/// [`dimension_hash`], called: for the one-value requests, which keep
+/// their callers small.
+#[inline(never)]
+fn dimension_hash_out_of_line(pixel_hash: u64, d: u32) -> [u32; 3] {
+    dimension_hash(pixel_hash, d)
 }
 
 /// The SplitMix64 output function (Steele, Lea and Flood, "Fast Splittable
