@@ -144,7 +144,9 @@ impl AreaLight {
     /// Sample a direction from `ctx` towards the light with uniform `u` in
     /// `[0, 1)²` ([`Shape::sample_solid_angle`]). `None` when no light
     /// arrives from the sample (the point is on the light, or sees its
-    /// non-emitting side).
+    /// non-emitting side). (Always inlined: see
+    /// [`Emitter::sample_li`](super::Emitter::sample_li).)
+    #[inline(always)]
     pub fn sample_li(&self, ctx: &LightSampleContext, u: Vec2) -> Option<LiSample> {
         let s = self.shape.sample_solid_angle(ctx.p, u)?;
         let (p_light, n_light, pdf) = (s.p, s.n, s.pdf);

@@ -47,6 +47,14 @@ impl Emitter {
     /// Sample light arriving at `ctx` from a 2D sample `u` in `[0, 1)²`.
     /// `None` when no light arrives (outside a spot cone, a one-sided light
     /// seen from behind, a black environment...).
+    ///
+    /// Always inlined, with [`AreaLight::sample_li`], into the path
+    /// integrator's light stage. Returned through memory, the 80-byte result
+    /// was written by the callee in small stores and its discriminant read
+    /// back at once with one 16-byte load, which the CPU cannot forward
+    /// from those stores: a stall of about 1% of the Cornell box's time
+    /// (docs/performance.md, twentieth sitting).
+    #[inline(always)]
     pub fn sample_li(&self, ctx: &LightSampleContext, u: Vec2) -> Option<LiSample> {
         match self {
             Emitter::Delta(light) => {
