@@ -3,7 +3,7 @@ mod lanes;
 pub use lanes::PATH_LANES;
 
 use super::{Integrator, RayStats};
-use crate::bsdf::Bsdf;
+use crate::bsdf::{Bsdf, BxDF};
 use crate::color::Color;
 use crate::geometry::{Ray, Vec3};
 use crate::interaction::SurfaceInteraction;
@@ -352,7 +352,10 @@ impl PathIntegrator {
         if ls.pdf <= 0.0 || ls.l.max_element() <= 0.0 {
             return Color::ZERO;
         }
-        let f = bsdf.f(wo, ls.wi) * ls.wi.dot(bsdf.frame().z).abs();
+        // Both directions in the shading frame once, for the BSDF's value,
+        // the cosine (the local z) and the pdf ([`Bsdf::f`], [`Bsdf::pdf`]).
+        let (wo_local, wi_local) = (bsdf.frame().to_local(wo), bsdf.frame().to_local(ls.wi));
+        let f = bsdf.bxdf().f(wo_local, wi_local) * wi_local.z.abs();
         if f.max_element() <= 0.0 {
             return Color::ZERO;
         }
@@ -364,7 +367,7 @@ impl PathIntegrator {
         if emitter.is_delta() || self.direct == DirectLighting::LightsOnly {
             f * ls.l / p_light
         } else {
-            let w = power_heuristic(p_light, bsdf.pdf(wo, ls.wi));
+            let w = power_heuristic(p_light, bsdf.bxdf().pdf(wo_local, wi_local));
             f * ls.l * (w / p_light)
         }
     }
