@@ -16,6 +16,7 @@ pub struct DiffuseBxdf {
 
 impl BxDF for DiffuseBxdf {
     /// `R/π` on the side of `wo`.
+    #[inline]
     fn f(&self, wo: Vec3, wi: Vec3) -> Color {
         if same_hemisphere(wo, wi) {
             self.r * FRAC_1_PI
@@ -25,6 +26,7 @@ impl BxDF for DiffuseBxdf {
     }
 
     /// Cosine-weighted sample on the side of `wo` (`uc` is not used).
+    #[inline]
     fn sample_f(&self, wo: Vec3, _uc: f32, u: Vec2) -> Option<BsdfSample> {
         if wo.z == 0.0 {
             return None;
@@ -41,6 +43,7 @@ impl BxDF for DiffuseBxdf {
     }
 
     /// `|cos θi|/π` on the side of `wo`.
+    #[inline]
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if same_hemisphere(wo, wi) {
             cosine_hemisphere_pdf(wi.z.abs())

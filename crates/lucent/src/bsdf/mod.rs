@@ -247,54 +247,31 @@ impl Bxdf {
 
 impl BxDF for Bxdf {
     /// BSDF value for light arriving from `wi`, leaving towards `wo`.
+    #[inline]
     fn f(&self, wo: Vec3, wi: Vec3) -> Color {
+        // The most common BxDF in place; the rest out of line.
         match self {
-            Self::Black => Color::ZERO,
             Self::Diffuse(b) => b.f(wo, wi),
-            Self::Conductor(b) => b.f(wo, wi),
-            Self::Dielectric(b) => b.f(wo, wi),
-            Self::Plastic(b) => b.f(wo, wi),
-            Self::Phong(b) => b.f(wo, wi),
-            Self::ThinDielectric(b) => b.f(wo, wi),
-            Self::DiffuseTransmission(b) => b.f(wo, wi),
-            Self::CoatedDiffuse(b) => b.f(wo, wi),
-            Self::CoatedConductor(b) => b.f(wo, wi),
-            Self::MetallicRoughness(b) => b.f(wo, wi),
+            _ => self.f_any(wo, wi),
         }
     }
 
     /// Sample an incident direction for `wo`, from a 1D sample `uc` (used to
     /// pick a lobe) and a 2D sample `u`.
+    #[inline]
     fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
         match self {
-            Self::Black => None,
             Self::Diffuse(b) => b.sample_f(wo, uc, u),
-            Self::Conductor(b) => b.sample_f(wo, uc, u),
-            Self::Dielectric(b) => b.sample_f(wo, uc, u),
-            Self::Plastic(b) => b.sample_f(wo, uc, u),
-            Self::Phong(b) => b.sample_f(wo, uc, u),
-            Self::ThinDielectric(b) => b.sample_f(wo, uc, u),
-            Self::DiffuseTransmission(b) => b.sample_f(wo, uc, u),
-            Self::CoatedDiffuse(b) => b.sample_f(wo, uc, u),
-            Self::CoatedConductor(b) => b.sample_f(wo, uc, u),
-            Self::MetallicRoughness(b) => b.sample_f(wo, uc, u),
+            _ => self.sample_f_any(wo, uc, u),
         }
     }
 
     /// Solid-angle pdf of sampling `wi` given `wo`.
+    #[inline]
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         match self {
-            Self::Black => 0.0,
             Self::Diffuse(b) => b.pdf(wo, wi),
-            Self::Conductor(b) => b.pdf(wo, wi),
-            Self::Dielectric(b) => b.pdf(wo, wi),
-            Self::Plastic(b) => b.pdf(wo, wi),
-            Self::Phong(b) => b.pdf(wo, wi),
-            Self::ThinDielectric(b) => b.pdf(wo, wi),
-            Self::DiffuseTransmission(b) => b.pdf(wo, wi),
-            Self::CoatedDiffuse(b) => b.pdf(wo, wi),
-            Self::CoatedConductor(b) => b.pdf(wo, wi),
-            Self::MetallicRoughness(b) => b.pdf(wo, wi),
+            _ => self.pdf_any(wo, wi),
         }
     }
 
@@ -330,6 +307,61 @@ impl BxDF for Bxdf {
             Self::CoatedDiffuse(b) => b.regularize(),
             Self::CoatedConductor(b) => b.regularize(),
             Self::MetallicRoughness(b) => b.regularize(),
+        }
+    }
+}
+
+/// The out-of-line halves of [`Bxdf`]'s [`BxDF`] methods: every kind but
+/// the diffuse one, which the methods evaluate in place.
+impl Bxdf {
+    /// [`BxDF::f`] of any kind.
+    fn f_any(&self, wo: Vec3, wi: Vec3) -> Color {
+        match self {
+            Self::Black => Color::ZERO,
+            Self::Diffuse(b) => b.f(wo, wi),
+            Self::Conductor(b) => b.f(wo, wi),
+            Self::Dielectric(b) => b.f(wo, wi),
+            Self::Plastic(b) => b.f(wo, wi),
+            Self::Phong(b) => b.f(wo, wi),
+            Self::ThinDielectric(b) => b.f(wo, wi),
+            Self::DiffuseTransmission(b) => b.f(wo, wi),
+            Self::CoatedDiffuse(b) => b.f(wo, wi),
+            Self::CoatedConductor(b) => b.f(wo, wi),
+            Self::MetallicRoughness(b) => b.f(wo, wi),
+        }
+    }
+
+    /// [`BxDF::sample_f`] of any kind.
+    fn sample_f_any(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
+        match self {
+            Self::Black => None,
+            Self::Diffuse(b) => b.sample_f(wo, uc, u),
+            Self::Conductor(b) => b.sample_f(wo, uc, u),
+            Self::Dielectric(b) => b.sample_f(wo, uc, u),
+            Self::Plastic(b) => b.sample_f(wo, uc, u),
+            Self::Phong(b) => b.sample_f(wo, uc, u),
+            Self::ThinDielectric(b) => b.sample_f(wo, uc, u),
+            Self::DiffuseTransmission(b) => b.sample_f(wo, uc, u),
+            Self::CoatedDiffuse(b) => b.sample_f(wo, uc, u),
+            Self::CoatedConductor(b) => b.sample_f(wo, uc, u),
+            Self::MetallicRoughness(b) => b.sample_f(wo, uc, u),
+        }
+    }
+
+    /// [`BxDF::pdf`] of any kind.
+    fn pdf_any(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match self {
+            Self::Black => 0.0,
+            Self::Diffuse(b) => b.pdf(wo, wi),
+            Self::Conductor(b) => b.pdf(wo, wi),
+            Self::Dielectric(b) => b.pdf(wo, wi),
+            Self::Plastic(b) => b.pdf(wo, wi),
+            Self::Phong(b) => b.pdf(wo, wi),
+            Self::ThinDielectric(b) => b.pdf(wo, wi),
+            Self::DiffuseTransmission(b) => b.pdf(wo, wi),
+            Self::CoatedDiffuse(b) => b.pdf(wo, wi),
+            Self::CoatedConductor(b) => b.pdf(wo, wi),
+            Self::MetallicRoughness(b) => b.pdf(wo, wi),
         }
     }
 }
