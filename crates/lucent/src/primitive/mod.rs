@@ -249,7 +249,7 @@ impl Primitive {
     /// `true` returned); without one, `closest` is left as it was. An
     /// untransformed mesh without alpha, the common case, builds its hit
     /// record in `closest` itself, so that it is not copied on its way up
-    /// (see [`Aggregate::intersect_into`](crate::primitive::Aggregate::intersect_into)).
+    /// (see [`Aggregate::intersect_into`]).
     #[inline]
     pub fn intersect_closer(&self, ray: &Ray, t_max: f32, closest: &mut Option<SurfaceInteraction>) -> bool {
         if let (None, None, Shape::Mesh(mesh)) = (&self.transform, &self.alpha, &self.shape) {
