@@ -1,0 +1,95 @@
+#!/usr/bin/env python3
+"""A small speed change between two lucent builds, read from time shares (issue 28).
+
+Wall and user times on a shared 2-core machine move by ±10% from run to
+run, more than the 2–6% a single optimisation gives. What moves much less
+is the *share* of the time that `perf` finds in functions which a change
+does not touch (the ray traversals, say, when the change is in the
+integrator): if the builds do the same work in those functions, the
+build that spends less time elsewhere gives them a larger share, and
+
+    time(build) / time(baseline) = share(baseline) / share(build).
+
+This runs `perf record -e cpu-clock` on BASELINE and BUILD with the same
+lucent arguments, alternating, ROUNDS times each, sums the shares of the
+symbols matching GROUP (a regular expression) in each profile, and prints
+every share, the medians, the implied time ratio and how many rounds the
+build's share was the larger.
+
+Check first that the group's functions are really unchanged: the same
+instructions a sample in a callgrind run of each build (`valgrind
+--tool=callgrind`, then `callgrind_annotate`); a function that the change
+inlines into or out of another invalidates the measure. Both builds
+should be fresh (each in an empty target directory): incremental builds
+lay code out differently and move figures by 1–2%.
+
+    scripts/perf-shares.py --rounds 8 \\
+        --group 'MeshBvh::intersect_avx2|MeshBvh::occluded_avx2|Primitive::intersect_closer' \\
+        /tmp/lucent-before /tmp/lucent-after -- \\
+        render scenes/cornell-box.toml --width 256 --height 256 --spp 32 --threads 1
+
+Needs `perf` (Debian `linux-perf`); not run by CI.
+"""
+
+import argparse
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+
+def group_share(binary: Path, args: list, group: re.Pattern, tmp: Path) -> float:
+    """Percent of one run's cpu-clock samples in the symbols matching `group`."""
+    data, image = tmp / "perf.data", tmp / "image.exr"
+    subprocess.run(["perf", "record", "-q", "-e", "cpu-clock", "-F", "2000", "-o", str(data),
+                    str(binary), *args, "-o", str(image), "-q"],
+                   check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    report = subprocess.run(["perf", "report", "-i", str(data), "--no-children", "--sort", "symbol",
+                             "--stdio"], check=True, capture_output=True, text=True).stdout
+    total = 0.0
+    for line in report.splitlines():
+        m = re.match(r"\s*([\d.]+)%\s+\[\.\]\s+(.*)", line)
+        if m and group.search(m.group(2)):
+            total += float(m.group(1))
+    return total
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--rounds", type=int, default=8, help="runs of each build, alternating (default 8)")
+    parser.add_argument("--group", required=True,
+                        help="regular expression of the symbols the change leaves alone")
+    parser.add_argument("baseline", type=Path)
+    parser.add_argument("build", type=Path)
+    parser.add_argument("args", nargs=argparse.REMAINDER, help="lucent's arguments, after --")
+    a = parser.parse_args()
+    args = a.args[1:] if a.args[:1] == ["--"] else a.args
+    if not args:
+        parser.error("give lucent's arguments after --")
+    if shutil.which("perf") is None:
+        sys.exit("error: `perf` is not installed (Debian: apt-get install linux-perf)")
+    group = re.compile(a.group)
+    base, build = [], []
+    with tempfile.TemporaryDirectory() as tmp:
+        for r in range(a.rounds):
+            order = [(a.baseline, base), (a.build, build)]
+            if r % 2 == 1:
+                order.reverse()
+            for binary, shares in order:
+                shares.append(group_share(binary, args, group, Path(tmp)))
+            print(f"round {r + 1}: baseline {base[-1]:.2f}%, build {build[-1]:.2f}%", flush=True)
+    if min(base + build) <= 0.0:
+        sys.exit("error: the group matched no samples in some run; check --group against `perf report`")
+    mb, mn = statistics.median(base), statistics.median(build)
+    larger = sum(y > x for x, y in zip(base, build))
+    print(f"group share, median: baseline {mb:.2f}% (from {min(base):.2f}), "
+          f"build {mn:.2f}% (from {min(build):.2f})")
+    print(f"time(build) / time(baseline) = {mb:.2f} / {mn:.2f} = {mb / mn:.3f}; "
+          f"the build's share was larger in {larger} of {a.rounds} rounds")
+
+
+if __name__ == "__main__":
+    main()
