@@ -19,6 +19,8 @@ import subprocess
 import tempfile
 from pathlib import Path
 
+import build_pair
+
 
 def user_seconds(binary: Path, args: list, out: Path) -> float:
     """User CPU seconds of one run (the children's rusage before and after)."""
@@ -31,13 +33,9 @@ def user_seconds(binary: Path, args: list, out: Path) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--rounds", type=int, default=10)
-    parser.add_argument("baseline", type=Path)
-    parser.add_argument("build", type=Path)
-    parser.add_argument("args", nargs=argparse.REMAINDER, help="lucent's arguments, after --")
+    build_pair.add_arguments(parser)
     a = parser.parse_args()
-    args = a.args[1:] if a.args[:1] == ["--"] else a.args
-    if not args:
-        parser.error("give lucent's arguments after --")
+    args = build_pair.lucent_args(parser, a)
     base, build, ratios = [], [], []
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "image.exr"

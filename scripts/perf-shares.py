@@ -40,6 +40,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+import build_pair
+
 
 def group_share(binary: Path, args: list, group: re.Pattern, tmp: Path) -> float:
     """Percent of one run's cpu-clock samples in the symbols matching `group`."""
@@ -62,13 +64,9 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=8, help="runs of each build, alternating (default 8)")
     parser.add_argument("--group", required=True,
                         help="regular expression of the symbols the change leaves alone")
-    parser.add_argument("baseline", type=Path)
-    parser.add_argument("build", type=Path)
-    parser.add_argument("args", nargs=argparse.REMAINDER, help="lucent's arguments, after --")
+    build_pair.add_arguments(parser)
     a = parser.parse_args()
-    args = a.args[1:] if a.args[:1] == ["--"] else a.args
-    if not args:
-        parser.error("give lucent's arguments after --")
+    args = build_pair.lucent_args(parser, a)
     if shutil.which("perf") is None:
         sys.exit("error: `perf` is not installed (Debian: apt-get install linux-perf)")
     group = re.compile(a.group)
