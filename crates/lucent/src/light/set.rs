@@ -3,6 +3,7 @@
 use super::Emitter;
 use crate::geometry::Bounds3;
 use crate::sampling::AliasTable;
+use crate::shapes::Shape;
 
 /// All the lights of a scene, with a distribution for picking one in
 /// proportion to its power ([`Emitter::power`]; PBRT 4th ed., §12.6.2).
@@ -11,6 +12,8 @@ use crate::sampling::AliasTable;
 pub struct LightSet {
     emitters: Vec<Emitter>,
     distribution: AliasTable,
+    /// Whether some light is a plain rectangle ([`LightSet::has_rectangles`]).
+    rectangles: bool,
 }
 
 impl LightSet {
@@ -21,7 +24,19 @@ impl LightSet {
         // Infinite powers would swamp the table: count them as the largest
         // finite float (the alias table treats non-finite weights as 0).
         let powers: Vec<f32> = powers.into_iter().map(|p| if p == f32::INFINITY { f32::MAX } else { p }).collect();
-        Self { emitters, distribution: AliasTable::new(&powers) }
+        let rectangles = emitters.iter().any(|e| match e {
+            Emitter::Area(a) => matches!(a.shape, Shape::Rectangle(_)) && a.image.is_none(),
+            _ => false,
+        });
+        Self { emitters, distribution: AliasTable::new(&powers), rectangles }
+    }
+
+    /// Whether some light is a rectangle area light without an emission
+    /// texture (for which the path integrator samples many vertices at
+    /// once).
+    #[inline]
+    pub fn has_rectangles(&self) -> bool {
+        self.rectangles
     }
 
     /// The lights.

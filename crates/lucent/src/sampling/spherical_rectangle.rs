@@ -15,7 +15,7 @@
 //! sample gives one direction with the constant density `1/S`; the
 //! rectangle is not split into triangles, and no alias table is needed.
 
-use crate::geometry::Vec3;
+use crate::geometry::{Vec3, Vec3Lanes, LANES};
 use glam::Vec2;
 use std::f32::consts::PI;
 
@@ -143,6 +143,145 @@ impl SphericalRectangle {
         let yv = if hv2 < 1.0 - 1e-6 { (hv * d) / (1.0 - hv2).sqrt() } else { self.y1 };
         let yv = yv.clamp(self.y0, self.y1);
         self.o + xu * self.x + yv * self.y + self.z0 * self.z
+    }
+}
+
+/// Lanes of one step of [`SphericalRectangle::sample_lanes`].
+const W: usize = 8;
+const _: () = assert!(LANES % W == 0);
+
+/// `x.clamp(lo, hi)` for `lo ≤ hi`, as a select the compiler can vectorise
+/// (the standard library's asserts `lo ≤ hi` first): the same value, NaN
+/// included.
+#[inline(always)]
+fn clamp(x: f32, lo: f32, hi: f32) -> f32 {
+    let x = if x < lo { lo } else { x };
+    if x > hi {
+        hi
+    } else {
+        x
+    }
+}
+
+impl SphericalRectangle {
+    /// One rectangle seen from the points `o` of lanes `0..n`:
+    /// [`SphericalRectangle::from_frame`] and [`SphericalRectangle::sample`]
+    /// with the sample `(u[0][i], u[1][i])` for each lane `i`, structure of
+    /// arrays. Writes each lane's sampled point to `p` and its solid angle to
+    /// `s`; NaN in `s` where `from_frame` gives `None` (then `p` is
+    /// meaningless).
+    ///
+    /// The arithmetic is the scalar functions', operation for operation, so
+    /// the values are theirs bit for bit; the steps without library calls run
+    /// as loops over the lanes that the compiler vectorises, and `atan2` and
+    /// `sin_cos` are called lane by lane (the library's, for the same values).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub fn sample_lanes(
+        corner: Vec3,
+        [x, y, z]: [Vec3; 3],
+        ex_len: f32,
+        ey_len: f32,
+        o: &Vec3Lanes,
+        u: &[[f32; LANES]; 2],
+        n: usize,
+        p: &mut Vec3Lanes,
+        s: &mut [f32; LANES],
+    ) {
+        let n = n.min(LANES);
+        let turn = |c: f32| {
+            let c = clamp(c, -1.0, 1.0);
+            (c, (1.0 - c * c).max(0.0).sqrt())
+        };
+        let mul = |a: (f32, f32), b: (f32, f32)| (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0);
+        // Eight lanes at a time (one AVX2 register each), the lanes of the
+        // last group past `n` computed on whatever they hold.
+        for c in (0..n).step_by(W) {
+            let m = (n - c).min(W);
+            // (`c + W ≤ LANES`: `c` is a multiple of `W`, which divides
+            // `LANES`; checked once here.)
+            let lanes = |a: &[f32; LANES]| -> [f32; W] { a[c..c + W].try_into().expect("W lanes") };
+            let (ox, oy, oz, u0, u1) = (lanes(&o.x), lanes(&o.y), lanes(&o.z), lanes(&u[0]), lanes(&u[1]));
+            let (mut px, mut py, mut pz) = ([0.0f32; W], [0.0f32; W], [0.0f32; W]);
+            // The set-up's values by lane, up to the angle excess.
+            let mut x0 = [0.0f32; W];
+            let mut y0 = [0.0f32; W];
+            let mut z0 = [0.0f32; W];
+            let mut flip = [false; W];
+            let mut b0 = [0.0f32; W];
+            let mut b1 = [0.0f32; W];
+            let mut g23 = [[0.0f32; W]; 2];
+            let mut e_s = [[0.0f32; W]; 2];
+            for j in 0..W {
+                let (dx, dy, dz) = (corner.x - ox[j], corner.y - oy[j], corner.z - oz[j]);
+                let lx0 = dx * x.x + dy * x.y + dz * x.z;
+                let ly0 = dx * y.x + dy * y.y + dz * y.z;
+                let lz0 = dx * z.x + dy * z.y + dz * z.z;
+                flip[j] = lz0 > 0.0;
+                let lz0 = if lz0 > 0.0 { -lz0 } else { lz0 };
+                let (lx1, ly1) = (lx0 + ex_len, ly0 + ey_len);
+                let z2 = lz0 * lz0;
+                let (r0, r1, r2, r3) = (
+                    (z2 + ly0 * ly0).sqrt(),
+                    (z2 + lx1 * lx1).sqrt(),
+                    (z2 + ly1 * ly1).sqrt(),
+                    (z2 + lx0 * lx0).sqrt(),
+                );
+                let c0 = ly0 * lx1 / (r0 * r1);
+                let c1 = -lx1 * ly1 / (r1 * r2);
+                let c2 = lx0 * ly1 / (r2 * r3);
+                let c3 = -lx0 * ly0 / (r3 * r0);
+                let g = mul(turn(c2), turn(c3));
+                let e = mul(mul(turn(c0), turn(c1)), g);
+                (x0[j], y0[j], z0[j]) = (lx0, ly0, lz0);
+                (b0[j], b1[j]) = (-ly0 / r0, ly1 / r2);
+                (g23[0][j], g23[1][j]) = g;
+                (e_s[0][j], e_s[1][j]) = e;
+            }
+            // The angle excess (the library's `atan2`, lane by lane), and
+            // the sine and cosine of the first step's angle.
+            let mut sin_us = [0.0f32; W];
+            let mut cos_us = [0.0f32; W];
+            for j in 0..m {
+                let mut si = e_s[1][j].atan2(e_s[0][j]);
+                if si < 0.0 {
+                    si += 2.0 * PI;
+                }
+                // In the plane (or NaN), or no area: nothing to sample.
+                if z0[j] == 0.0 || z0[j].is_nan() || !(si > 0.0 && si.is_finite()) {
+                    s[c + j] = f32::NAN;
+                    continue;
+                }
+                s[c + j] = si;
+                (sin_us[j], cos_us[j]) = (u0[j] * si).sin_cos();
+            }
+            for j in 0..W {
+                let (kx, ky) = (g23[0][j], -g23[1][j]);
+                let (x0, y0, z0) = (x0[j], y0[j], z0[j]);
+                let (x1, y1) = (x0 + ex_len, y0 + ey_len);
+                let (b0, b1) = (b0[j], b1[j]);
+                let (cos_au, sin_au) = (cos_us[j] * kx - sin_us[j] * ky, cos_us[j] * ky + sin_us[j] * kx);
+                let fu = (cos_au * b0 - b1) / sin_au;
+                let cu = if fu.is_finite() { (1.0 / (fu * fu + b0 * b0).sqrt()).copysign(fu) } else { 0.0 };
+                let cu = clamp(cu, -1.0, 1.0);
+                let xu = clamp(-(cu * z0) / (1.0 - cu * cu).max(0.0).sqrt(), x0, x1);
+                let xu = if xu.is_nan() { x0 } else { xu };
+                let d = (xu * xu + z0 * z0).sqrt();
+                let h0 = y0 / (d * d + y0 * y0).sqrt();
+                let h1 = y1 / (d * d + y1 * y1).sqrt();
+                let hv = h0 + u1[j] * (h1 - h0);
+                let hv2 = hv * hv;
+                let yv = if hv2 < 1.0 - 1e-6 { (hv * d) / (1.0 - hv2).sqrt() } else { y1 };
+                let yv = clamp(yv, y0, y1);
+                let (zx, zy, zz) = if flip[j] { (-z.x, -z.y, -z.z) } else { (z.x, z.y, z.z) };
+                px[j] = ox[j] + xu * x.x + yv * y.x + z0 * zx;
+                py[j] = oy[j] + xu * x.y + yv * y.y + z0 * zy;
+                pz[j] = oz[j] + xu * x.z + yv * y.z + z0 * zz;
+            }
+            p.x[c..c + W].copy_from_slice(&px);
+            p.y[c..c + W].copy_from_slice(&py);
+            p.z[c..c + W].copy_from_slice(&pz);
+        }
     }
 }
 

@@ -1,6 +1,6 @@
 use super::{area_to_solid_angle, check_finite, ShapeError, ShapeHit, ShapeSample};
 use super::{MAX_SPHERICAL_SAMPLE_AREA, MIN_SPHERICAL_SAMPLE_AREA};
-use crate::geometry::{gamma, Bounds3, Ray, Transform, Vec2, Vec3};
+use crate::geometry::{gamma, Bounds3, Ray, Transform, Vec2, Vec3, Vec3Lanes, LANES};
 use crate::mesh::VertexAttributes;
 use crate::sampling::SphericalRectangle;
 
@@ -162,7 +162,7 @@ impl Rectangle {
     /// solid angle is in the range of spherical sampling.
     #[inline]
     fn spherical(&self, p: Vec3) -> Option<SphericalRectangle> {
-        if (p - self.centre).length_squared() >= self.area_sampling_distance2 {
+        if !self.near(p) {
             return None;
         }
         SphericalRectangle::from_frame(p, self.corner, [self.x, self.y, self.n], self.ex_len, self.ey_len).filter(|s| {
@@ -183,6 +183,85 @@ impl Rectangle {
                 let pdf = area_to_solid_angle(p, s.p, s.n, self.area());
                 (pdf > 0.0).then_some(ShapeSample { pdf, ..s })
             }
+        }
+    }
+
+    /// Whether [`Rectangle::sample_solid_angle`] from `p` tries the
+    /// spherical rectangle first (within [`AREA_SAMPLING_DIAGONALS`]);
+    /// otherwise it samples by area.
+    #[inline(always)]
+    pub fn near(&self, p: Vec3) -> bool {
+        // (A NaN distance tries the spherical rectangle, which then gives
+        // up, as in `spherical`.)
+        let d2 = (p - self.centre).length_squared();
+        d2 < self.area_sampling_distance2 || d2.is_nan()
+    }
+
+    /// [`Rectangle::sample_solid_angle`] from the points `o` of lanes
+    /// `0..n` with the samples `(u[0][i], u[1][i])`, structure of arrays:
+    /// the lanes `0..near` must be those whose point is
+    /// [`near`](Rectangle::near), the others follow. Writes each lane's
+    /// point to `p` and its pdf to `pdf`, 0 where `sample_solid_angle`
+    /// gives `None`; the values are its own, bit for bit (the normal is
+    /// always [`Rectangle::normal`]).
+    #[allow(clippy::needless_range_loop)]
+    #[inline(always)]
+    pub fn sample_solid_angle_lanes(
+        &self,
+        o: &Vec3Lanes,
+        u: &[[f32; LANES]; 2],
+        near: usize,
+        n: usize,
+        p: &mut Vec3Lanes,
+        pdf: &mut [f32; LANES],
+    ) {
+        let n = n.min(LANES);
+        let near = near.min(n);
+        // The solid angles first, then the pdfs in their place.
+        SphericalRectangle::sample_lanes(
+            self.corner,
+            [self.x, self.y, self.n],
+            self.ex_len,
+            self.ey_len,
+            o,
+            u,
+            near,
+            p,
+            pdf,
+        );
+        for i in 0..near {
+            let s = pdf[i];
+            if (MIN_SPHERICAL_SAMPLE_AREA..=MAX_SPHERICAL_SAMPLE_AREA).contains(&s) {
+                pdf[i] = 1.0 / s;
+            } else {
+                // (Rare: a solid angle outside the range of spherical
+                // sampling.)
+                let (q, d) = self.area_sample_from(o.get(i), Vec2::new(u[0][i], u[1][i]));
+                p.set(i, q);
+                pdf[i] = d;
+            }
+        }
+        let area = self.area();
+        let (c, ex, ey, nl) = (self.corner, self.ex, self.ey, self.n);
+        for i in near..n {
+            let (ux, uy) = (u[0][i], u[1][i]);
+            let (qx, qy, qz) = (c.x + ux * ex.x + uy * ey.x, c.y + ux * ex.y + uy * ey.y, c.z + ux * ex.z + uy * ey.z);
+            (p.x[i], p.y[i], p.z[i]) = (qx, qy, qz);
+            // `area_to_solid_angle`, lane by lane.
+            let (tx, ty, tz) = (qx - o.x[i], qy - o.y[i], qz - o.z[i]);
+            let d2 = tx * tx + ty * ty + tz * tz;
+            let cos = (nl.x * tx + nl.y * ty + nl.z * tz).abs() / d2.sqrt();
+            let d = d2 / (cos * area);
+            pdf[i] = if d2 == 0.0 || area <= 0.0 || cos == 0.0 || !d.is_finite() || d <= 0.0 { 0.0 } else { d };
+        }
+    }
+
+    /// The area sample of [`Rectangle::sample_solid_angle`] from `p`: the
+    /// point and its solid-angle pdf, 0 for `None`.
+    fn area_sample_from(&self, p: Vec3, u: Vec2) -> (Vec3, f32) {
+        match self.sample_area(u) {
+            Some(s) => (s.p, area_to_solid_angle(p, s.p, s.n, self.area())),
+            None => (Vec3::ZERO, 0.0),
         }
     }
 

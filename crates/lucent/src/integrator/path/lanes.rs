@@ -15,15 +15,19 @@
 //!    others have a BSDF to shade with;
 //! 2. **samples**: the five sample dimensions of the vertex ([`VertexSamples`])
 //!    for every shading lane at once ([`Sampler::vertex_lanes`]);
-//! 3. **light**: next-event estimation;
+//! 3. **light**: next-event estimation (diffuse vertices sampling a
+//!    rectangle light all at once, in vector code: [`super::light_lanes`]);
 //! 4. **scatter**: the BSDF sample that continues the path, and Russian
 //!    roulette.
 //!
 //! This is the structure of vectorised production path tracers (Lee et
 //! al., "Vectorized Production Path Tracing", HPG 2017: queue, then shade
 //! in SIMD; Mitsuba 3 runs its whole loop on wide lanes), in the form that
-//! lets each stage run across lanes: the sample stage does, and each stage
-//! is a loop over an index list that a vector kernel can take over.
+//! lets each stage run across lanes: the sample stage does, so does the
+//! light stage for diffuse vertices and rectangle lights, and each stage
+//! is a loop over an index list that a vector kernel can take over (for
+//! the lanes it knows; the others keep the scalar code, in the same
+//! loop).
 //!
 //! Lanes never interact: a lane's result depends only on its own ray and
 //! sampler, whatever the other lanes of its batch, in which order they
@@ -31,6 +35,7 @@
 //! batches (and the number of threads), and equal to tracing each path
 //! alone ([`crate::integrator::Integrator::li`] is a batch of one).
 
+use super::light_lanes::RectangleLanes;
 use super::{
     material_context, DirectLighting, MediumStep, PathIntegrator, PathVertexState, MAX_INTERFACE_SKIPS, RR_DEPTH,
 };
@@ -47,21 +52,21 @@ use crate::scene::Scene;
 /// Most paths traced together in one batch: a run of 64 pixels of a row,
 /// one sample each. (16 lanes measured 2% slower on the Cornell box: the
 /// stages then run on fewer lanes once paths start to end.)
-pub const PATH_LANES: usize = 64;
+pub const PATH_LANES: usize = crate::geometry::LANES;
 
 /// One path's state between vertices.
 #[derive(Clone, Copy)]
-struct PathState {
+pub(super) struct PathState {
     /// Radiance found so far.
-    radiance: Color,
+    pub(super) radiance: Color,
     /// Path throughput: product of f·|cos θ|/pdf along the path so far.
-    beta: Color,
+    pub(super) beta: Color,
     /// Accumulated η² of refractions, for Russian roulette.
     eta_scale: f32,
     /// Whether the last bounce was from a delta lobe (no MIS possible).
     specular_bounce: bool,
     /// Whether any vertex so far scattered non-specularly.
-    any_non_specular: bool,
+    pub(super) any_non_specular: bool,
     /// Whether a vertex before the last one scattered non-specularly:
     /// light found from the last one is then indirect (`max_indirect`).
     indirect: bool,
@@ -72,7 +77,7 @@ struct PathState {
     prev_pdf: f32,
     prev_ctx: LightSampleContext,
     /// The ray to trace next.
-    ray: Ray,
+    pub(super) ray: Ray,
     /// Scattering events so far.
     depth: u32,
     /// The medium the ray travels in (always `None` without media).
@@ -224,6 +229,11 @@ impl PathIntegrator {
         let mut live = LaneList::first(n);
         let nee = self.direct != DirectLighting::BsdfOnly;
         let mut env_prefetch = EnvironmentPrefetch::new(scene).filter(|_| nee);
+        // Diffuse vertices that sample a rectangle light take the lane
+        // kernel ([`RectangleLanes`]; not in scenes with media, whose light
+        // samples carry transmittance). Its buffers are made on first use.
+        let kernel = !scene.has_media() && scene.light_set().has_rectangles();
+        let mut rectangles: Option<RectangleLanes> = None;
         while live.len > 0 {
             // 1. Ray queries and what they find.
             let mut next = LaneList::empty();
@@ -255,10 +265,18 @@ impl PathIntegrator {
                 if let Some(prefetch) = &env_prefetch {
                     prefetch.finish(&u);
                 }
+                if let Some(r) = &mut rectangles {
+                    r.clear();
+                }
                 for &lane in shade.as_slice() {
                     let i = lane as usize;
                     let (Some(si), Some(bsdf)) = (&hits[i], &bsdfs[i]) else { continue };
                     if bsdf.is_specular() {
+                        continue;
+                    }
+                    if kernel
+                        && rectangles.get_or_insert_with(RectangleLanes::new).take(scene, lane, si, bsdf, u[i].light)
+                    {
                         continue;
                     }
                     let path = &mut paths[i];
@@ -278,6 +296,9 @@ impl PathIntegrator {
                     // The light's last bounce is this vertex: indirect if an
                     // earlier one was non-specular.
                     path.radiance += self.contribution(direct, path.any_non_specular);
+                }
+                if let Some(r) = &mut rectangles {
+                    r.estimate(self, scene, &mut paths, &hits, &bsdfs, &u, stats, &mut interfaces);
                 }
             }
             // 4. Continue by sampling the BSDF.

@@ -1,4 +1,5 @@
 mod lanes;
+mod light_lanes;
 
 pub use lanes::PATH_LANES;
 

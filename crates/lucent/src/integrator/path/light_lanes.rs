@@ -1,0 +1,440 @@
+//! Next-event estimation across lanes, for the commonest vertex of interior
+//! scenes: a diffuse surface sampling a rectangle light.
+//!
+//! The light stage of [`super::lanes`] gathers the lanes whose BSDF is a
+//! plain diffuse lobe and whose light pick is a rectangle area light
+//! (without an emission texture, in a scene without media) into structure
+//! of arrays: the shading point, the directions and albedo, the throughput
+//! and the light sample. The rectangle is sampled for all of them at once
+//! ([`Rectangle::sample_solid_angle_lanes`]: the spherical rectangle of
+//! Ureña et al. for the near lanes, the area for the far ones), then the
+//! BSDF's value, both pdfs and the power heuristic are computed lane by
+//! lane in loops the compiler vectorises. Only the shadow rays are traced
+//! one lane at a time. Every other lane takes the scalar
+//! [`PathIntegrator::sample_light`].
+//!
+//! The kernels run the scalar functions' operations in the same order, so
+//! each lane's light sample is the scalar one bit for bit (a test compares
+//! them on random lanes; renders are byte-identical).
+
+use super::lanes::PathState;
+use super::{occluded, power_heuristic, DirectLighting, PathIntegrator};
+use crate::accel::isa;
+#[cfg(target_arch = "x86_64")]
+use crate::accel::Isa;
+use crate::bsdf::{Bsdf, Bxdf};
+use crate::color::Color;
+use crate::geometry::{Vec3Lanes, LANES};
+use crate::integrator::RayStats;
+use crate::interaction::SurfaceInteraction;
+use crate::light::{AreaLight, Emitter};
+use crate::sampling::VertexSamples;
+use crate::scene::Scene;
+use crate::shapes::{Rectangle, Shape};
+use std::f32::consts::FRAC_1_PI;
+
+/// The lanes of one light stage that sample one rectangle light together.
+pub(super) struct RectangleLanes<'a> {
+    /// The light's index among the scene's lights, its pick probability,
+    /// the light and its rectangle: those of the first lane taken.
+    light: Option<(usize, f32, &'a AreaLight, &'a Rectangle)>,
+    /// The lanes taken, near the rectangle and far from it
+    /// ([`Rectangle::near`]).
+    near: [u8; LANES],
+    near_len: usize,
+    far: [u8; LANES],
+    far_len: usize,
+    /// The kernel's lanes (near ones first), inputs and outputs, kept from
+    /// one stage to the next so that they are not cleared each time.
+    lanes: [u8; LANES],
+    input: Inputs,
+    out: Outputs,
+}
+
+impl<'a> RectangleLanes<'a> {
+    /// No lanes.
+    pub(super) fn new() -> Self {
+        Self {
+            light: None,
+            near: [0; LANES],
+            near_len: 0,
+            far: [0; LANES],
+            far_len: 0,
+            lanes: [0; LANES],
+            input: Inputs::ZERO,
+            out: Outputs::ZERO,
+        }
+    }
+
+    /// No lanes again, for the next stage.
+    pub(super) fn clear(&mut self) {
+        (self.light, self.near_len, self.far_len) = (None, 0, 0);
+    }
+
+    /// Take `lane` (at `si`, with BSDF `bsdf`, light pick `u_light`) if its
+    /// light sample can run in the kernel; `false` leaves it to the scalar
+    /// [`PathIntegrator::sample_light`].
+    #[inline]
+    pub(super) fn take(
+        &mut self,
+        scene: &'a Scene,
+        lane: u8,
+        si: &SurfaceInteraction,
+        bsdf: &Bsdf,
+        u_light: f32,
+    ) -> bool {
+        if !matches!(bsdf.bxdf(), Bxdf::Diffuse(_)) {
+            return false;
+        }
+        let lights = scene.light_set();
+        let Some((index, pmf)) = lights.sample(u_light) else { return false };
+        match self.light {
+            Some((taken, ..)) if taken != index => return false,
+            Some(_) => {}
+            None => {
+                let Emitter::Area(area) = &lights.emitters()[index] else { return false };
+                let Shape::Rectangle(rect) = &area.shape else { return false };
+                if area.image.is_some() {
+                    return false;
+                }
+                self.light = Some((index, pmf, area, rect));
+            }
+        }
+        let Some((.., rect)) = self.light else { return false };
+        if rect.near(si.p) {
+            self.near[self.near_len] = lane;
+            self.near_len += 1;
+        } else {
+            self.far[self.far_len] = lane;
+            self.far_len += 1;
+        }
+        true
+    }
+
+    /// Next-event estimation for the lanes taken: each lane's light
+    /// sample, weighed and, where it carries light, tested with a shadow
+    /// ray; what it finds is added to the lane's path.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn estimate(
+        &mut self,
+        integrator: &PathIntegrator,
+        scene: &Scene,
+        paths: &mut [PathState],
+        hits: &[Option<SurfaceInteraction>],
+        bsdfs: &[Option<Bsdf>],
+        u: &[VertexSamples],
+        stats: &mut RayStats,
+        interfaces: &mut Option<bool>,
+    ) {
+        let Some((_, pmf, area, rect)) = self.light else { return };
+        let n = self.near_len + self.far_len;
+        // Gather the lanes, near ones first.
+        let (lanes, input, out) = (&mut self.lanes, &mut self.input, &mut self.out);
+        let taken = self.near[..self.near_len].iter().chain(&self.far[..self.far_len]);
+        for (k, &lane) in taken.enumerate() {
+            let i = lane as usize;
+            let (Some(si), Some(bsdf)) = (&hits[i], &bsdfs[i]) else { unreachable!("a lane taken has a vertex") };
+            let Bxdf::Diffuse(diffuse) = bsdf.bxdf() else { unreachable!("a lane taken is diffuse") };
+            lanes[k] = lane;
+            input.o.set(k, si.p);
+            input.wo.set(k, -paths[i].ray.dir);
+            input.ns.set(k, bsdf.frame().z);
+            input.r.set(k, diffuse.r);
+            input.beta.set(k, paths[i].beta);
+            (input.u[0][k], input.u[1][k]) = (u[i].point.x, u[i].point.y);
+        }
+        estimate_lanes_any(integrator.direct, pmf, area, rect, input, self.near_len, n, out);
+        for (k, &lane) in lanes.iter().enumerate().take(n) {
+            if !out.shadow[k] {
+                continue;
+            }
+            let i = lane as usize;
+            let Some(si) = &hits[i] else { continue };
+            stats.shadow += 1;
+            if occluded(scene, si, Some(out.p_light.get(k)), out.wi.get(k), interfaces) {
+                continue;
+            }
+            let path = &mut paths[i];
+            path.radiance += integrator.contribution(out.direct.get(k), path.any_non_specular);
+        }
+    }
+}
+
+/// What the kernel needs of each lane.
+struct Inputs {
+    /// The shading point.
+    o: Vec3Lanes,
+    /// Towards where the path came from (unit).
+    wo: Vec3Lanes,
+    /// The shading normal.
+    ns: Vec3Lanes,
+    /// The diffuse albedo.
+    r: Vec3Lanes,
+    /// The path throughput.
+    beta: Vec3Lanes,
+    /// The light sample's 2D value.
+    u: [[f32; LANES]; 2],
+}
+
+impl Inputs {
+    const ZERO: Self = Self {
+        o: Vec3Lanes::ZERO,
+        wo: Vec3Lanes::ZERO,
+        ns: Vec3Lanes::ZERO,
+        r: Vec3Lanes::ZERO,
+        beta: Vec3Lanes::ZERO,
+        u: [[0.0; LANES]; 2],
+    };
+}
+
+/// What the kernel finds for each lane.
+struct Outputs {
+    /// Whether the light sample carries light, so that a shadow ray
+    /// decides.
+    shadow: [bool; LANES],
+    /// The sampled point of the light, and the unit direction to it.
+    p_light: Vec3Lanes,
+    wi: Vec3Lanes,
+    /// The throughput times the MIS-weighted estimate, if unoccluded.
+    direct: Vec3Lanes,
+    /// The light sample's solid-angle pdf.
+    pdf: [f32; LANES],
+}
+
+impl Outputs {
+    const ZERO: Self = Self {
+        shadow: [false; LANES],
+        p_light: Vec3Lanes::ZERO,
+        wi: Vec3Lanes::ZERO,
+        direct: Vec3Lanes::ZERO,
+        pdf: [0.0; LANES],
+    };
+}
+
+/// [`estimate_lanes`] in the build for this CPU.
+#[allow(clippy::too_many_arguments)]
+fn estimate_lanes_any(
+    direct: DirectLighting,
+    pmf: f32,
+    area: &AreaLight,
+    rect: &Rectangle,
+    input: &Inputs,
+    near: usize,
+    n: usize,
+    out: &mut Outputs,
+) {
+    match isa() {
+        // SAFETY: `isa` found AVX2 (AVX-512 includes it).
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx2 | Isa::Avx512 => unsafe { estimate_lanes_avx2(direct, pmf, area, rect, input, near, n, out) },
+        _ => estimate_lanes(direct, pmf, area, rect, input, near, n, out),
+    }
+}
+
+/// [`estimate_lanes`] compiled for AVX2: eight lanes to a register.
+///
+/// # Safety
+/// The CPU must have AVX2 and FMA. (FMA only makes the instructions
+/// available: Rust never fuses a multiplication and an addition itself, so
+/// the values are the portable build's.)
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn estimate_lanes_avx2(
+    direct: DirectLighting,
+    pmf: f32,
+    area: &AreaLight,
+    rect: &Rectangle,
+    input: &Inputs,
+    near: usize,
+    n: usize,
+    out: &mut Outputs,
+) {
+    estimate_lanes(direct, pmf, area, rect, input, near, n, out);
+}
+
+/// The kernel: the light sample of lanes `0..n` (the first `near` near
+/// the rectangle), each weighed as [`PathIntegrator::sample_light`] weighs
+/// it for a diffuse BSDF, times the lane's throughput.
+#[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
+#[inline(always)]
+fn estimate_lanes(
+    direct: DirectLighting,
+    pmf: f32,
+    area: &AreaLight,
+    rect: &Rectangle,
+    input: &Inputs,
+    near: usize,
+    n: usize,
+    out: &mut Outputs,
+) {
+    rect.sample_solid_angle_lanes(&input.o, &input.u, near, n, &mut out.p_light, &mut out.pdf);
+    let pdf = &out.pdf;
+    let radiance = area.radiance;
+    let nl = rect.normal();
+    // `AreaLight::sample_li` gives `None` for a black light, and the
+    // integrator skips a light sample whose radiance is not positive.
+    let max = radiance.max_element();
+    let light_ok = radiance != Color::ZERO && (max > 0.0 || max.is_nan());
+    let mis = direct != DirectLighting::LightsOnly;
+    let (o, ns, wo, r, beta) = (&input.o, &input.ns, &input.wo, &input.r, &input.beta);
+    // Lane by lane in scalar arithmetic, so that the loop vectorises; each
+    // line is the `Vec3`/`Color` operation it replaces, in its order.
+    for k in 0..n.min(LANES) {
+        // `AreaLight::sample_li`: the direction, and whether the light
+        // emits along it.
+        let (tx, ty, tz) = (out.p_light.x[k] - o.x[k], out.p_light.y[k] - o.y[k], out.p_light.z[k] - o.z[k]);
+        let d = (tx * tx + ty * ty + tz * tz).sqrt();
+        let ok = d > 0.0 && pdf[k] > 0.0 && pdf[k].is_finite();
+        let (wx, wy, wz) = (tx / d, ty / d, tz / d);
+        let cos = nl.x * -wx + nl.y * -wy + nl.z * -wz;
+        let emits = area.two_sided || if area.reverse { cos < 0.0 } else { cos > 0.0 };
+        // The diffuse BSDF in the shading frame: only the local z of both
+        // directions matters.
+        let wo_z = wo.x[k] * ns.x[k] + wo.y[k] * ns.y[k] + wo.z[k] * ns.z[k];
+        let wi_z = wx * ns.x[k] + wy * ns.y[k] + wz * ns.z[k];
+        let same_side = wo_z * wi_z > 0.0;
+        let c = wi_z.abs();
+        let (fx, fy, fz) = if same_side {
+            (r.x[k] * FRAC_1_PI * c, r.y[k] * FRAC_1_PI * c, r.z[k] * FRAC_1_PI * c)
+        } else {
+            (0.0 * c, 0.0 * c, 0.0 * c)
+        };
+        let f_max = fx.max(fy).max(fz);
+        let p_light = pmf * pdf[k];
+        let (vx, vy, vz) = if mis {
+            let p_bsdf = if same_side { c * FRAC_1_PI } else { 0.0 };
+            let w = power_heuristic(p_light, p_bsdf) / p_light;
+            (fx * radiance.x * w, fy * radiance.y * w, fz * radiance.z * w)
+        } else {
+            (fx * radiance.x / p_light, fy * radiance.y / p_light, fz * radiance.z / p_light)
+        };
+        out.shadow[k] = ok && emits && light_ok && (f_max > 0.0 || f_max.is_nan());
+        (out.wi.x[k], out.wi.y[k], out.wi.z[k]) = (wx, wy, wz);
+        (out.direct.x[k], out.direct.y[k], out.direct.z[k]) = (beta.x[k] * vx, beta.y[k] * vy, beta.z[k] * vz);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::{BxDF, DiffuseBxdf};
+    use crate::geometry::Vec3;
+    use crate::light::LightSampleContext;
+    use crate::sampling::Pcg32;
+    use glam::Vec2;
+
+    /// A random rectangle (edges orthogonal, of any orientation and size).
+    fn rectangle(rng: &mut Pcg32) -> Rectangle {
+        let mut v = || Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+        let (corner, a, b) = (4.0 * v(), v(), v());
+        let ex = a.normalize() * (0.05 + 2.0 * a.length());
+        let ey = ex.cross(b).normalize() * (0.05 + 2.0 * b.length());
+        Rectangle::new(corner, ex, ey).unwrap()
+    }
+
+    /// Points around `rect`: near and far, in its plane, on its corner.
+    fn point(rng: &mut Pcg32, rect: &Rectangle, k: usize) -> Vec3 {
+        let scale = [0.1, 1.0, 3.0, 20.0][k % 4];
+        let p = Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * scale;
+        match k % 23 {
+            // In the rectangle's plane.
+            0 => {
+                let n = rect.normal();
+                p - n * n.dot(p - rect.sample_area(Vec2::new(0.3, 0.6)).unwrap().p)
+            }
+            // On a corner.
+            1 => rect.sample_area(Vec2::ZERO).unwrap().p,
+            _ => p,
+        }
+    }
+
+    /// The lane kernels give the scalar functions' values bit for bit:
+    /// [`Rectangle::sample_solid_angle_lanes`] those of
+    /// [`Rectangle::sample_solid_angle`], and [`estimate_lanes`] those of
+    /// [`PathIntegrator::sample_light`]'s arithmetic (the light sample of
+    /// [`AreaLight::sample_li`], the diffuse BSDF's value and pdf, the
+    /// power heuristic) before its shadow ray, over random rectangles,
+    /// points, normals and samples, in batches of 1 to 64 lanes.
+    #[test]
+    fn lane_kernels_equal_the_scalar_light_sample() {
+        let mut rng = Pcg32::new(7, 3);
+        let mut lanes_checked = 0;
+        for batch in 0..400 {
+            let rect = rectangle(&mut rng);
+            let n = 1 + batch % LANES;
+            let mut input = Inputs::ZERO;
+            // Near lanes first, as the light stage gathers them.
+            let mut points: Vec<Vec3> = (0..n).map(|k| point(&mut rng, &rect, k)).collect();
+            points.sort_by_key(|&p| !rect.near(p));
+            let near = points.iter().filter(|&&p| rect.near(p)).count();
+            for (k, &p) in points.iter().enumerate() {
+                input.o.set(k, p);
+                let mut unit = || Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5).normalize();
+                input.wo.set(k, unit());
+                input.ns.set(k, unit());
+                input.r.set(k, Vec3::new(rng.uniform(), rng.uniform(), rng.uniform()));
+                input.beta.set(k, Vec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 3.0);
+                (input.u[0][k], input.u[1][k]) = (rng.uniform(), rng.uniform());
+            }
+            let area = AreaLight {
+                shape: Shape::Rectangle(rect.clone()),
+                radiance: Color::new(17.0, 12.0, 4.0),
+                two_sided: batch % 5 == 0,
+                reverse: batch % 7 == 0,
+                image: None,
+            };
+            let pmf = [1.0, 0.25, 0.7][batch % 3];
+            let direct = if batch % 4 == 0 { DirectLighting::LightsOnly } else { DirectLighting::Mis };
+            // The portable build, and the build for this CPU.
+            let mut out = Outputs::ZERO;
+            estimate_lanes(direct, pmf, &area, &rect, &input, near, n, &mut out);
+            let mut out_cpu = Outputs::ZERO;
+            estimate_lanes_any(direct, pmf, &area, &rect, &input, near, n, &mut out_cpu);
+            assert_eq!(out.shadow, out_cpu.shadow);
+            for k in (0..n).filter(|&k| out.shadow[k]) {
+                let lane = |o: &Outputs| (o.p_light.get(k), o.wi.get(k), o.direct.get(k));
+                assert_eq!(lane(&out), lane(&out_cpu), "lane {k} of {n}");
+            }
+            // Lane by lane, the scalar functions.
+            let mut sampled = Outputs::ZERO;
+            rect.sample_solid_angle_lanes(&input.o, &input.u, near, n, &mut sampled.p_light, &mut sampled.pdf);
+            for k in 0..n {
+                let (o, u) = (input.o.get(k), Vec2::new(input.u[0][k], input.u[1][k]));
+                let scalar = rect.sample_solid_angle(o, u);
+                let (p, pdf) = scalar.map_or((None, 0.0), |s| (Some(s.p), s.pdf));
+                assert_eq!(sampled.pdf[k].to_bits(), pdf.to_bits(), "pdf of lane {k} of {n}, from {o}");
+                if let Some(p) = p {
+                    assert_eq!(sampled.p_light.get(k), p, "point of lane {k} of {n}, from {o}");
+                }
+                let bxdf = DiffuseBxdf { r: input.r.get(k) };
+                let frame = crate::geometry::Frame::from_z(input.ns.get(k));
+                let wo = input.wo.get(k);
+                let expected = area.sample_li(&LightSampleContext { p: o, n: Vec3::ZERO }, u).and_then(|ls| {
+                    if ls.pdf <= 0.0 || ls.l.max_element() <= 0.0 {
+                        return None;
+                    }
+                    let (wo_l, wi_l) = (frame.to_local(wo), frame.to_local(ls.wi));
+                    let f = bxdf.f(wo_l, wi_l) * wi_l.z.abs();
+                    if f.max_element() <= 0.0 {
+                        return None;
+                    }
+                    let p_light = pmf * ls.pdf;
+                    let value = if direct == DirectLighting::LightsOnly {
+                        f * ls.l / p_light
+                    } else {
+                        f * ls.l * (power_heuristic(p_light, bxdf.pdf(wo_l, wi_l)) / p_light)
+                    };
+                    Some((ls.p_light.unwrap(), ls.wi, input.beta.get(k) * value))
+                });
+                assert_eq!(out.shadow[k], expected.is_some(), "lane {k} of {n}, from {o}");
+                if let Some((p, wi, d)) = expected {
+                    assert_eq!((out.p_light.get(k), out.wi.get(k), out.direct.get(k)), (p, wi, d), "lane {k} of {n}");
+                    lanes_checked += 1;
+                }
+            }
+        }
+        // Most lanes see the light.
+        assert!(lanes_checked > 2000, "{lanes_checked}");
+    }
+}
