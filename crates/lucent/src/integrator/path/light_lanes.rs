@@ -143,7 +143,8 @@ impl<'a> RectangleLanes<'a> {
             input.beta.set(k, paths[i].beta);
             (input.u[0][k], input.u[1][k]) = (u[i].point.x, u[i].point.y);
         }
-        estimate_lanes_any(integrator.direct, pmf, area, rect, input, self.near_len, n, out);
+        let kernel = Kernel { direct: integrator.direct, pmf, area, rect, near: self.near_len, n };
+        estimate_lanes_any(&kernel, input, out);
         for (k, &lane) in lanes.iter().enumerate().take(n) {
             if !out.shadow[k] {
                 continue;
@@ -211,23 +212,30 @@ impl Outputs {
     };
 }
 
-/// [`estimate_lanes`] in the build for this CPU.
-#[allow(clippy::too_many_arguments)]
-fn estimate_lanes_any(
+/// What one call of [`estimate_lanes`] is about: the light and how it is
+/// weighed, and which lanes.
+#[derive(Clone, Copy)]
+struct Kernel<'a> {
+    /// How the integrator combines light and BSDF sampling.
     direct: DirectLighting,
+    /// The probability of picking the light.
     pmf: f32,
-    area: &AreaLight,
-    rect: &Rectangle,
-    input: &Inputs,
+    /// The light and its rectangle.
+    area: &'a AreaLight,
+    rect: &'a Rectangle,
+    /// Lanes `0..near` are near the rectangle ([`Rectangle::near`]),
+    /// lanes `near..n` far from it.
     near: usize,
     n: usize,
-    out: &mut Outputs,
-) {
+}
+
+/// [`estimate_lanes`] in the build for this CPU.
+fn estimate_lanes_any(kernel: &Kernel, input: &Inputs, out: &mut Outputs) {
     match isa() {
         // SAFETY: `isa` found AVX2 (AVX-512 includes it).
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 | Isa::Avx512 => unsafe { estimate_lanes_avx2(direct, pmf, area, rect, input, near, n, out) },
-        _ => estimate_lanes(direct, pmf, area, rect, input, near, n, out),
+        Isa::Avx2 | Isa::Avx512 => unsafe { estimate_lanes_avx2(kernel, input, out) },
+        _ => estimate_lanes(kernel, input, out),
     }
 }
 
@@ -239,35 +247,17 @@ fn estimate_lanes_any(
 /// the values are the portable build's.)
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn estimate_lanes_avx2(
-    direct: DirectLighting,
-    pmf: f32,
-    area: &AreaLight,
-    rect: &Rectangle,
-    input: &Inputs,
-    near: usize,
-    n: usize,
-    out: &mut Outputs,
-) {
-    estimate_lanes(direct, pmf, area, rect, input, near, n, out);
+unsafe fn estimate_lanes_avx2(kernel: &Kernel, input: &Inputs, out: &mut Outputs) {
+    estimate_lanes(kernel, input, out);
 }
 
 /// The kernel: the light sample of lanes `0..n` (the first `near` near
 /// the rectangle), each weighed as [`PathIntegrator::sample_light`] weighs
 /// it for a diffuse BSDF, times the lane's throughput.
-#[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
+#[allow(clippy::needless_range_loop)]
 #[inline(always)]
-fn estimate_lanes(
-    direct: DirectLighting,
-    pmf: f32,
-    area: &AreaLight,
-    rect: &Rectangle,
-    input: &Inputs,
-    near: usize,
-    n: usize,
-    out: &mut Outputs,
-) {
+fn estimate_lanes(kernel: &Kernel, input: &Inputs, out: &mut Outputs) {
+    let Kernel { direct, pmf, area, rect, near, n } = *kernel;
     rect.sample_solid_angle_lanes(&input.o, &input.u, near, n, &mut out.p_light, &mut out.pdf);
     let pdf = &out.pdf;
     let radiance = area.radiance;
@@ -387,10 +377,11 @@ mod tests {
             let pmf = [1.0, 0.25, 0.7][batch % 3];
             let direct = if batch % 4 == 0 { DirectLighting::LightsOnly } else { DirectLighting::Mis };
             // The portable build, and the build for this CPU.
+            let kernel = Kernel { direct, pmf, area: &area, rect: &rect, near, n };
             let mut out = Outputs::ZERO;
-            estimate_lanes(direct, pmf, &area, &rect, &input, near, n, &mut out);
+            estimate_lanes(&kernel, &input, &mut out);
             let mut out_cpu = Outputs::ZERO;
-            estimate_lanes_any(direct, pmf, &area, &rect, &input, near, n, &mut out_cpu);
+            estimate_lanes_any(&kernel, &input, &mut out_cpu);
             assert_eq!(out.shadow, out_cpu.shadow);
             for k in (0..n).filter(|&k| out.shadow[k]) {
                 let lane = |o: &Outputs| (o.p_light.get(k), o.wi.get(k), o.direct.get(k));
