@@ -18,7 +18,7 @@ use crate::color::{luminance, Color};
 use crate::geometry::{Ray, Vec2, Vec3};
 use crate::mesh::VertexAttributes;
 use crate::primitive::Primitive;
-use crate::shapes::Shape;
+use crate::shapes::{Rectangle, Shape};
 use crate::texture::{Texture, TextureContext};
 use std::f32::consts::PI;
 use std::sync::Arc;
@@ -90,6 +90,17 @@ pub struct AreaLight {
 }
 
 impl AreaLight {
+    /// The light's rectangle, if it is a rectangle of uniform radiance
+    /// (no emission texture): the lights whose samples the path integrator
+    /// takes many at a time.
+    #[inline]
+    pub fn plain_rectangle(&self) -> Option<&Rectangle> {
+        match &self.shape {
+            Shape::Rectangle(r) if self.image.is_none() => Some(r),
+            _ => None,
+        }
+    }
+
     /// Radiance leaving a point of the light with unit geometric normal `n`
     /// (the shape's own orientation) in direction `w`: towards the side of
     /// `n` (the side opposite `n` when [`AreaLight::reverse`]), or either

@@ -3,7 +3,6 @@
 use super::Emitter;
 use crate::geometry::Bounds3;
 use crate::sampling::AliasTable;
-use crate::shapes::Shape;
 
 /// All the lights of a scene, with a distribution for picking one in
 /// proportion to its power ([`Emitter::power`]; PBRT 4th ed., §12.6.2).
@@ -24,10 +23,7 @@ impl LightSet {
         // Infinite powers would swamp the table: count them as the largest
         // finite float (the alias table treats non-finite weights as 0).
         let powers: Vec<f32> = powers.into_iter().map(|p| if p == f32::INFINITY { f32::MAX } else { p }).collect();
-        let rectangles = emitters.iter().any(|e| match e {
-            Emitter::Area(a) => matches!(a.shape, Shape::Rectangle(_)) && a.image.is_none(),
-            _ => false,
-        });
+        let rectangles = emitters.iter().any(|e| matches!(e, Emitter::Area(a) if a.plain_rectangle().is_some()));
         Self { emitters, distribution: AliasTable::new(&powers), rectangles }
     }
 

@@ -30,7 +30,7 @@ use crate::interaction::SurfaceInteraction;
 use crate::light::{AreaLight, Emitter};
 use crate::sampling::VertexSamples;
 use crate::scene::Scene;
-use crate::shapes::{Rectangle, Shape};
+use crate::shapes::Rectangle;
 use std::f32::consts::FRAC_1_PI;
 
 /// The lanes of one light stage that sample one rectangle light together.
@@ -93,10 +93,7 @@ impl<'a> RectangleLanes<'a> {
             Some(_) => {}
             None => {
                 let Emitter::Area(area) = &lights.emitters()[index] else { return false };
-                let Shape::Rectangle(rect) = &area.shape else { return false };
-                if area.image.is_some() {
-                    return false;
-                }
+                let Some(rect) = area.plain_rectangle() else { return false };
                 self.light = Some((index, pmf, area, rect));
             }
         }
@@ -312,6 +309,7 @@ mod tests {
     use crate::geometry::Vec3;
     use crate::light::LightSampleContext;
     use crate::sampling::Pcg32;
+    use crate::shapes::Shape;
     use glam::Vec2;
 
     /// A random rectangle (edges orthogonal, of any orientation and size).
