@@ -265,17 +265,20 @@ fn estimate_lanes(kernel: &Kernel, input: &Inputs, out: &mut Outputs) {
     let light_ok = radiance != Color::ZERO && (max > 0.0 || max.is_nan());
     let mis = direct != DirectLighting::LightsOnly;
     let (o, ns, wo, r, beta) = (&input.o, &input.ns, &input.wo, &input.r, &input.beta);
-    // Lane by lane in scalar arithmetic, so that the loop vectorises; each
-    // line is the `Vec3`/`Color` operation it replaces, in its order.
+    // Lane by lane in scalar arithmetic, so that the loop vectorises;
+    // each line is the `Vec3`/`Color` operation it replaces, in its order.
+    // Conditions are selects and bitwise `&`/`|` of comparisons, never
+    // branches, so that the loop has one path for all lanes.
+    let (two_sided, reverse) = (area.two_sided, area.reverse);
     for k in 0..n.min(LANES) {
         // `AreaLight::sample_li`: the direction, and whether the light
         // emits along it.
         let (tx, ty, tz) = (out.p_light.x[k] - o.x[k], out.p_light.y[k] - o.y[k], out.p_light.z[k] - o.z[k]);
         let d = (tx * tx + ty * ty + tz * tz).sqrt();
-        let ok = d > 0.0 && pdf[k] > 0.0 && pdf[k].is_finite();
+        let ok = (d > 0.0) & (pdf[k] > 0.0) & pdf[k].is_finite();
         let (wx, wy, wz) = (tx / d, ty / d, tz / d);
         let cos = nl.x * -wx + nl.y * -wy + nl.z * -wz;
-        let emits = area.two_sided || if area.reverse { cos < 0.0 } else { cos > 0.0 };
+        let emits = two_sided | (reverse & (cos < 0.0)) | (!reverse & (cos > 0.0));
         // The diffuse BSDF in the shading frame: only the local z of both
         // directions matters.
         let wo_z = wo.x[k] * ns.x[k] + wo.y[k] * ns.y[k] + wo.z[k] * ns.z[k];
@@ -289,14 +292,11 @@ fn estimate_lanes(kernel: &Kernel, input: &Inputs, out: &mut Outputs) {
         };
         let f_max = fx.max(fy).max(fz);
         let p_light = pmf * pdf[k];
-        let (vx, vy, vz) = if mis {
-            let p_bsdf = if same_side { c * FRAC_1_PI } else { 0.0 };
-            let w = power_heuristic(p_light, p_bsdf) / p_light;
-            (fx * radiance.x * w, fy * radiance.y * w, fz * radiance.z * w)
-        } else {
-            (fx * radiance.x / p_light, fy * radiance.y / p_light, fz * radiance.z / p_light)
-        };
-        out.shadow[k] = ok && emits && light_ok && (f_max > 0.0 || f_max.is_nan());
+        let p_bsdf = if same_side { c * FRAC_1_PI } else { 0.0 };
+        let w = power_heuristic(p_light, p_bsdf) / p_light;
+        let (ax, ay, az) = (fx * radiance.x, fy * radiance.y, fz * radiance.z);
+        let (vx, vy, vz) = if mis { (ax * w, ay * w, az * w) } else { (ax / p_light, ay / p_light, az / p_light) };
+        out.shadow[k] = ok & emits & light_ok & ((f_max > 0.0) | f_max.is_nan());
         (out.wi.x[k], out.wi.y[k], out.wi.z[k]) = (wx, wy, wz);
         (out.direct.x[k], out.direct.y[k], out.direct.z[k]) = (beta.x[k] * vx, beta.y[k] * vy, beta.z[k] * vz);
     }

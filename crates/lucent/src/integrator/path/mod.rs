@@ -288,13 +288,16 @@ pub const RR_DEPTH: u32 = 5;
 #[inline]
 pub fn power_heuristic(pdf_f: f32, pdf_g: f32) -> f32 {
     let (f, g) = (pdf_f * pdf_f, pdf_g * pdf_g);
+    // Written as selects, not early returns, so that loops over many lanes
+    // (the light stage's kernel) vectorise: the quotient is computed
+    // whatever the case and only used when it is the answer.
+    let sum = f + g;
+    let q = f / sum;
+    let w = if sum == 0.0 { 0.0 } else { q };
     if f.is_infinite() {
-        return 1.0;
-    }
-    if f + g == 0.0 {
-        0.0
+        1.0
     } else {
-        f / (f + g)
+        w
     }
 }
 
