@@ -8,6 +8,27 @@ use super::Vec3;
 /// Lanes of a [`Vec3Lanes`]: the path integrator's batch of paths.
 pub const LANES: usize = 64;
 
+/// Lanes of one AVX2 register: kernels that run over [`LANES`] lanes
+/// take them in groups of this many, so that each group is one vector
+/// per value and no lane is left to a scalar remainder loop (the lanes of
+/// the last group past the count are computed on whatever they hold, and
+/// not used).
+pub const GROUP: usize = 8;
+
+/// The group of lanes `c..c + GROUP` of `a` (`c` a multiple of [`GROUP`]).
+#[inline(always)]
+pub fn group<T: Copy + Default>(a: &[T; LANES], c: usize) -> [T; GROUP] {
+    let mut g = [T::default(); GROUP];
+    g.copy_from_slice(&a[c..c + GROUP]);
+    g
+}
+
+/// Set the group of lanes `c..c + GROUP` of `a` to `g`.
+#[inline(always)]
+pub fn set_group<T: Copy>(a: &mut [T; LANES], c: usize, g: [T; GROUP]) {
+    a[c..c + GROUP].copy_from_slice(&g);
+}
+
 /// Up to [`LANES`] 3-vectors, each coordinate in its own array.
 #[derive(Clone, Copy, Debug)]
 pub struct Vec3Lanes {
@@ -33,6 +54,20 @@ impl Vec3Lanes {
     #[inline(always)]
     pub fn set(&mut self, i: usize, v: Vec3) {
         (self.x[i], self.y[i], self.z[i]) = (v.x, v.y, v.z);
+    }
+
+    /// The group of lanes `c..c + GROUP`, coordinate by coordinate.
+    #[inline(always)]
+    pub fn group(&self, c: usize) -> [[f32; GROUP]; 3] {
+        [group(&self.x, c), group(&self.y, c), group(&self.z, c)]
+    }
+
+    /// Set the group of lanes `c..c + GROUP` to `g`.
+    #[inline(always)]
+    pub fn set_group(&mut self, c: usize, g: [[f32; GROUP]; 3]) {
+        set_group(&mut self.x, c, g[0]);
+        set_group(&mut self.y, c, g[1]);
+        set_group(&mut self.z, c, g[2]);
     }
 
     /// The dot product of lane `i` with `v`, rounded as [`Vec3::dot`]

@@ -36,6 +36,7 @@
 //! alone ([`crate::integrator::Integrator::li`] is a batch of one).
 
 use super::light_lanes::RectangleLanes;
+use super::scatter_lanes::DiffuseLanes;
 use super::{
     material_context, DirectLighting, MediumStep, PathIntegrator, PathVertexState, MAX_INTERFACE_SKIPS, RR_DEPTH,
 };
@@ -62,31 +63,31 @@ pub(super) struct PathState {
     /// Path throughput: product of f·|cos θ|/pdf along the path so far.
     pub(super) beta: Color,
     /// Accumulated η² of refractions, for Russian roulette.
-    eta_scale: f32,
+    pub(super) eta_scale: f32,
     /// Whether the last bounce was from a delta lobe (no MIS possible).
-    specular_bounce: bool,
+    pub(super) specular_bounce: bool,
     /// Whether any vertex so far scattered non-specularly.
     pub(super) any_non_specular: bool,
     /// Whether a vertex before the last one scattered non-specularly:
     /// light found from the last one is then indirect (`max_indirect`).
-    indirect: bool,
+    pub(super) indirect: bool,
     /// Interfaces passed in a row.
     skips: u32,
     /// The pdf of the last scattering direction, and where it was chosen,
     /// for MIS of light the ray finds.
-    prev_pdf: f32,
-    prev_ctx: LightSampleContext,
+    pub(super) prev_pdf: f32,
+    pub(super) prev_ctx: LightSampleContext,
     /// The ray to trace next.
     pub(super) ray: Ray,
     /// Scattering events so far.
-    depth: u32,
+    pub(super) depth: u32,
     /// The medium the ray travels in (always `None` without media).
-    medium: Option<MediumId>,
+    pub(super) medium: Option<MediumId>,
 }
 
 impl PathState {
     /// A path starting along `camera_ray` in `medium`.
-    fn new(camera_ray: &Ray, medium: Option<MediumId>) -> Self {
+    pub(super) fn new(camera_ray: &Ray, medium: Option<MediumId>) -> Self {
         Self {
             radiance: Color::ZERO,
             beta: Color::ONE,
@@ -120,13 +121,13 @@ enum Surface {
 }
 
 /// The lanes of a batch that some stage runs on, in any order.
-struct LaneList {
+pub(super) struct LaneList {
     lanes: [u8; PATH_LANES],
     len: usize,
 }
 
 impl LaneList {
-    fn empty() -> Self {
+    pub(super) fn empty() -> Self {
         Self { lanes: [0; PATH_LANES], len: 0 }
     }
 
@@ -139,13 +140,13 @@ impl LaneList {
     }
 
     #[inline]
-    fn push(&mut self, lane: usize) {
+    pub(super) fn push(&mut self, lane: usize) {
         self.lanes[self.len] = lane as u8;
         self.len += 1;
     }
 
     #[inline]
-    fn as_slice(&self) -> &[u8] {
+    pub(super) fn as_slice(&self) -> &[u8] {
         &self.lanes[..self.len]
     }
 }
@@ -234,6 +235,8 @@ impl PathIntegrator {
         // samples carry transmittance). Its buffers are made on first use.
         let kernel = !scene.has_media() && scene.light_set().has_rectangles();
         let mut rectangles: Option<RectangleLanes> = None;
+        // Diffuse vertices scatter in the lane kernel ([`DiffuseLanes`]).
+        let mut diffuse: Option<DiffuseLanes> = None;
         while live.len > 0 {
             // 1. Ray queries and what they find.
             let mut next = LaneList::empty();
@@ -302,12 +305,21 @@ impl PathIntegrator {
                 }
             }
             // 4. Continue by sampling the BSDF.
+            if let Some(d) = &mut diffuse {
+                d.clear();
+            }
             for &lane in shade.as_slice() {
                 let i = lane as usize;
                 let (Some(si), Some(bsdf)) = (&hits[i], &bsdfs[i]) else { continue };
+                if diffuse.get_or_insert_with(DiffuseLanes::new).take(lane, &paths[i], si, bsdf, &u[i]) {
+                    continue;
+                }
                 if self.scatter(&mut paths[i], si, bsdf, &u[i], stats) {
                     next.push(i);
                 }
+            }
+            if let Some(d) = &mut diffuse {
+                d.scatter(&mut paths, &hits, stats, &mut next);
             }
             live = next;
         }
@@ -452,7 +464,7 @@ impl PathIntegrator {
     /// The scatter stage for one lane: sample the BSDF at `si` for the
     /// path's next direction, then Russian roulette. Whether the path goes
     /// on.
-    fn scatter(
+    pub(super) fn scatter(
         &self,
         path: &mut PathState,
         si: &SurfaceInteraction,

@@ -24,7 +24,7 @@ use crate::accel::isa;
 use crate::accel::Isa;
 use crate::bsdf::{Bsdf, Bxdf};
 use crate::color::Color;
-use crate::geometry::{Vec3Lanes, LANES};
+use crate::geometry::{group, set_group, Vec3Lanes, GROUP, LANES};
 use crate::integrator::RayStats;
 use crate::interaction::SurfaceInteraction;
 use crate::light::{AreaLight, Emitter};
@@ -269,36 +269,48 @@ fn estimate_lanes(kernel: &Kernel, input: &Inputs, out: &mut Outputs) {
     // each line is the `Vec3`/`Color` operation it replaces, in its order.
     // Conditions are selects and bitwise `&`/`|` of comparisons, never
     // branches, so that the loop has one path for all lanes.
+    // The lanes a [`GROUP`] at a time, each group's values in fixed-size
+    // local arrays, so that every group is vector code (a loop over the
+    // count would leave up to 31 lanes to a scalar remainder).
     let (two_sided, reverse) = (area.two_sided, area.reverse);
-    for k in 0..n.min(LANES) {
-        // `AreaLight::sample_li`: the direction, and whether the light
-        // emits along it.
-        let (tx, ty, tz) = (out.p_light.x[k] - o.x[k], out.p_light.y[k] - o.y[k], out.p_light.z[k] - o.z[k]);
-        let d = (tx * tx + ty * ty + tz * tz).sqrt();
-        let ok = (d > 0.0) & (pdf[k] > 0.0) & pdf[k].is_finite();
-        let (wx, wy, wz) = (tx / d, ty / d, tz / d);
-        let cos = nl.x * -wx + nl.y * -wy + nl.z * -wz;
-        let emits = two_sided | (reverse & (cos < 0.0)) | (!reverse & (cos > 0.0));
-        // The diffuse BSDF in the shading frame: only the local z of both
-        // directions matters.
-        let wo_z = wo.x[k] * ns.x[k] + wo.y[k] * ns.y[k] + wo.z[k] * ns.z[k];
-        let wi_z = wx * ns.x[k] + wy * ns.y[k] + wz * ns.z[k];
-        let same_side = wo_z * wi_z > 0.0;
-        let c = wi_z.abs();
-        let (fx, fy, fz) = if same_side {
-            (r.x[k] * FRAC_1_PI * c, r.y[k] * FRAC_1_PI * c, r.z[k] * FRAC_1_PI * c)
-        } else {
-            (0.0 * c, 0.0 * c, 0.0 * c)
-        };
-        let f_max = fx.max(fy).max(fz);
-        let p_light = pmf * pdf[k];
-        let p_bsdf = if same_side { c * FRAC_1_PI } else { 0.0 };
-        let w = power_heuristic(p_light, p_bsdf) / p_light;
-        let (ax, ay, az) = (fx * radiance.x, fy * radiance.y, fz * radiance.z);
-        let (vx, vy, vz) = if mis { (ax * w, ay * w, az * w) } else { (ax / p_light, ay / p_light, az / p_light) };
-        out.shadow[k] = ok & emits & light_ok & ((f_max > 0.0) | f_max.is_nan());
-        (out.wi.x[k], out.wi.y[k], out.wi.z[k]) = (wx, wy, wz);
-        (out.direct.x[k], out.direct.y[k], out.direct.z[k]) = (beta.x[k] * vx, beta.y[k] * vy, beta.z[k] * vz);
+    for c in (0..n.min(LANES).div_ceil(GROUP)).map(|g| g * GROUP) {
+        let ([plx, ply, plz], [ox, oy, oz], pdf) = (out.p_light.group(c), o.group(c), group(pdf, c));
+        let ([nsx, nsy, nsz], [wox, woy, woz]) = (ns.group(c), wo.group(c));
+        let ([rx, ry, rz], [bx, by, bz]) = (r.group(c), beta.group(c));
+        let (mut shadow, mut wi, mut value) = ([false; GROUP], [[0.0; GROUP]; 3], [[0.0; GROUP]; 3]);
+        for j in 0..GROUP {
+            // `AreaLight::sample_li`: the direction, and whether the light
+            // emits along it.
+            let (tx, ty, tz) = (plx[j] - ox[j], ply[j] - oy[j], plz[j] - oz[j]);
+            let d = (tx * tx + ty * ty + tz * tz).sqrt();
+            let ok = (d > 0.0) & (pdf[j] > 0.0) & pdf[j].is_finite();
+            let (wx, wy, wz) = (tx / d, ty / d, tz / d);
+            let cos = nl.x * -wx + nl.y * -wy + nl.z * -wz;
+            let emits = two_sided | (reverse & (cos < 0.0)) | (!reverse & (cos > 0.0));
+            // The diffuse BSDF in the shading frame: only the local z of
+            // both directions matters.
+            let wo_z = wox[j] * nsx[j] + woy[j] * nsy[j] + woz[j] * nsz[j];
+            let wi_z = wx * nsx[j] + wy * nsy[j] + wz * nsz[j];
+            let same_side = wo_z * wi_z > 0.0;
+            let c = wi_z.abs();
+            let (fx, fy, fz) = if same_side {
+                (rx[j] * FRAC_1_PI * c, ry[j] * FRAC_1_PI * c, rz[j] * FRAC_1_PI * c)
+            } else {
+                (0.0 * c, 0.0 * c, 0.0 * c)
+            };
+            let f_max = fx.max(fy).max(fz);
+            let p_light = pmf * pdf[j];
+            let p_bsdf = if same_side { c * FRAC_1_PI } else { 0.0 };
+            let w = power_heuristic(p_light, p_bsdf) / p_light;
+            let (ax, ay, az) = (fx * radiance.x, fy * radiance.y, fz * radiance.z);
+            let (vx, vy, vz) = if mis { (ax * w, ay * w, az * w) } else { (ax / p_light, ay / p_light, az / p_light) };
+            shadow[j] = ok & emits & light_ok & ((f_max > 0.0) | f_max.is_nan());
+            (wi[0][j], wi[1][j], wi[2][j]) = (wx, wy, wz);
+            (value[0][j], value[1][j], value[2][j]) = (bx[j] * vx, by[j] * vy, bz[j] * vz);
+        }
+        set_group(&mut out.shadow, c, shadow);
+        out.wi.set_group(c, wi);
+        out.direct.set_group(c, value);
     }
 }
 

@@ -1,5 +1,6 @@
 mod lanes;
 mod light_lanes;
+mod scatter_lanes;
 
 pub use lanes::PATH_LANES;
 

@@ -1,0 +1,523 @@
+//! The scatter stage across lanes, for diffuse vertices: the commonest
+//! vertex of most scenes.
+//!
+//! The scatter stage of [`super::lanes`] gathers the lanes whose BSDF is a
+//! plain diffuse lobe into structure of arrays (the shading frame, the
+//! direction the path came from, the albedo, the throughput, the surface
+//! point with its error bounds and normal, and the vertex's samples), and
+//! runs for all of them at once what the path integrator's scalar scatter
+//! stage (`PathIntegrator::scatter`) runs for one:
+//!
+//! 1. the cosine-weighted direction of [`DiffuseBxdf::sample_f`]
+//!    (Shirley and Chiu's concentric map of the square onto the disk,
+//!    lifted onto the hemisphere by Malley's method; PBRT 4th ed.,
+//!    §A.5.1 and §A.5.3) and its pdf, turned into world space by the
+//!    shading frame;
+//! 2. the throughput update `β ← β·f·|cos θ|/pdf`;
+//! 3. the origin of the next ray, offset off the surface by its error
+//!    bounds ([`crate::geometry::offset_ray_origin`], PBRT 4th ed.,
+//!    §6.8.6);
+//! 4. Russian roulette.
+//!
+//! Each step is a loop over the lanes in scalar arithmetic, written
+//! without branches so that the compiler turns it into vector
+//! instructions; only the cosine and sine of the disk's angle are called
+//! lane by lane, the library's own `cos` and `sin`, so that the values are
+//! the scalar ones. Every line is the `Vec3`/`Color` operation it replaces,
+//! in the same order: each lane's new path state is the scalar stage's bit
+//! for bit (a test compares them over random lanes; renders are
+//! byte-identical).
+//!
+//! [`DiffuseBxdf::sample_f`]: crate::bsdf::DiffuseBxdf
+
+use super::lanes::{LaneList, PathState};
+use super::RR_DEPTH;
+use crate::accel::isa;
+#[cfg(target_arch = "x86_64")]
+use crate::accel::Isa;
+use crate::bsdf::{Bsdf, Bxdf};
+use crate::geometry::{group, set_group, Ray, Vec3Lanes, GROUP, LANES};
+use crate::integrator::RayStats;
+use crate::interaction::SurfaceInteraction;
+use crate::light::LightSampleContext;
+use crate::sampling::VertexSamples;
+use std::f32::consts::{FRAC_1_PI, FRAC_PI_4};
+
+/// The diffuse lanes of one scatter stage.
+pub(super) struct DiffuseLanes {
+    /// The lanes taken, in the order they were taken.
+    lanes: [u8; LANES],
+    len: usize,
+    /// The kernel's inputs and outputs, kept from one stage to the next so
+    /// that they are not cleared each time.
+    input: Inputs,
+    out: Outputs,
+}
+
+impl DiffuseLanes {
+    /// No lanes.
+    pub(super) fn new() -> Self {
+        Self { lanes: [0; LANES], len: 0, input: Inputs::ZERO, out: Outputs::ZERO }
+    }
+
+    /// No lanes again, for the next stage.
+    pub(super) fn clear(&mut self) {
+        self.len = 0;
+    }
+
+    /// Take `lane` (its path `path` at `si`, with BSDF `bsdf` and the
+    /// vertex's samples `u`) if its BSDF is a plain diffuse lobe, writing
+    /// what the kernel needs of it into the kernel's inputs while it is at
+    /// hand; `false` leaves it to the scalar scatter stage.
+    #[inline]
+    pub(super) fn take(
+        &mut self,
+        lane: u8,
+        path: &PathState,
+        si: &SurfaceInteraction,
+        bsdf: &Bsdf,
+        u: &VertexSamples,
+    ) -> bool {
+        let Bxdf::Diffuse(diffuse) = bsdf.bxdf() else { return false };
+        let (k, input) = (self.len, &mut self.input);
+        self.lanes[k] = lane;
+        self.len += 1;
+        let frame = bsdf.frame();
+        input.fx.set(k, frame.x);
+        input.fy.set(k, frame.y);
+        input.fz.set(k, frame.z);
+        input.wo.set(k, -path.ray.dir);
+        input.r.set(k, diffuse.r);
+        input.beta.set(k, path.beta);
+        input.p.set(k, si.p);
+        input.p_error.set(k, si.p_error);
+        input.n.set(k, si.n);
+        (input.u[0][k], input.u[1][k]) = (u.dir.x, u.dir.y);
+        input.u_rr[k] = u.rr;
+        input.eta_scale[k] = path.eta_scale;
+        input.roulette[k] = path.depth + 1 >= RR_DEPTH;
+        true
+    }
+
+    /// The scatter stage of the lanes taken: each lane's path gets its new
+    /// throughput and ray, as the scalar `PathIntegrator::scatter` gives
+    /// them, and the lanes whose paths go on are pushed to `next`.
+    pub(super) fn scatter(
+        &mut self,
+        paths: &mut [PathState],
+        hits: &[Option<SurfaceInteraction>],
+        stats: &mut RayStats,
+        next: &mut LaneList,
+    ) {
+        let n = self.len;
+        let (input, out) = (&self.input, &mut self.out);
+        scatter_lanes_any(n, input, out);
+        for (k, &lane) in self.lanes[..n].iter().enumerate() {
+            if !out.sampled[k] {
+                continue;
+            }
+            stats.secondary += 1;
+            if !out.survives[k] {
+                continue;
+            }
+            let i = lane as usize;
+            let Some(si) = &hits[i] else { continue };
+            let path = &mut paths[i];
+            let wi = out.wi.get(k);
+            path.beta = out.beta.get(k);
+            path.specular_bounce = false;
+            path.indirect = path.any_non_specular;
+            path.any_non_specular = true;
+            path.prev_pdf = out.pdf[k];
+            path.prev_ctx = LightSampleContext { p: si.p, n: si.n };
+            if si.media.is_transition() {
+                path.medium = si.media.medium_along(wi, si.n);
+            }
+            path.ray = Ray::new(out.origin.get(k), wi);
+            path.depth += 1;
+            next.push(i);
+        }
+    }
+}
+
+/// What the kernel needs of each lane.
+struct Inputs {
+    /// The shading frame's axes (`fz`: the shading normal).
+    fx: Vec3Lanes,
+    fy: Vec3Lanes,
+    fz: Vec3Lanes,
+    /// Towards where the path came from (unit).
+    wo: Vec3Lanes,
+    /// The diffuse albedo.
+    r: Vec3Lanes,
+    /// The path throughput.
+    beta: Vec3Lanes,
+    /// The surface point, its error bounds and its geometric normal.
+    p: Vec3Lanes,
+    p_error: Vec3Lanes,
+    n: Vec3Lanes,
+    /// The direction's 2D sample and the roulette sample.
+    u: [[f32; LANES]; 2],
+    u_rr: [f32; LANES],
+    /// The accumulated η² of refractions.
+    eta_scale: [f32; LANES],
+    /// Whether Russian roulette plays at this vertex.
+    roulette: [bool; LANES],
+}
+
+impl Inputs {
+    const ZERO: Self = Self {
+        fx: Vec3Lanes::ZERO,
+        fy: Vec3Lanes::ZERO,
+        fz: Vec3Lanes::ZERO,
+        wo: Vec3Lanes::ZERO,
+        r: Vec3Lanes::ZERO,
+        beta: Vec3Lanes::ZERO,
+        p: Vec3Lanes::ZERO,
+        p_error: Vec3Lanes::ZERO,
+        n: Vec3Lanes::ZERO,
+        u: [[0.0; LANES]; 2],
+        u_rr: [0.0; LANES],
+        eta_scale: [0.0; LANES],
+        roulette: [false; LANES],
+    };
+}
+
+/// What the kernel finds for each lane.
+struct Outputs {
+    /// Whether the BSDF gave a direction that carries light and a finite
+    /// throughput: the path counts a secondary ray.
+    sampled: [bool; LANES],
+    /// Whether the path goes on: sampled and not ended by roulette.
+    survives: [bool; LANES],
+    /// The new direction (unit), its pdf, and the ray's origin off the
+    /// surface.
+    wi: Vec3Lanes,
+    pdf: [f32; LANES],
+    origin: Vec3Lanes,
+    /// The new throughput.
+    beta: Vec3Lanes,
+    /// The concentric map's radius and angle, and the angle's cosine and
+    /// sine (between the kernel's loops).
+    radius: [f32; LANES],
+    theta: [f32; LANES],
+    cos: [f32; LANES],
+    sin: [f32; LANES],
+}
+
+impl Outputs {
+    const ZERO: Self = Self {
+        sampled: [false; LANES],
+        survives: [false; LANES],
+        wi: Vec3Lanes::ZERO,
+        pdf: [0.0; LANES],
+        origin: Vec3Lanes::ZERO,
+        beta: Vec3Lanes::ZERO,
+        radius: [0.0; LANES],
+        theta: [0.0; LANES],
+        cos: [0.0; LANES],
+        sin: [0.0; LANES],
+    };
+}
+
+/// [`scatter_lanes`] in the build for this CPU.
+fn scatter_lanes_any(n: usize, input: &Inputs, out: &mut Outputs) {
+    match isa() {
+        // SAFETY: `isa` found AVX2 (AVX-512 includes it).
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx2 | Isa::Avx512 => unsafe { scatter_lanes_avx2(n, input, out) },
+        _ => scatter_lanes(n, input, out),
+    }
+}
+
+/// [`scatter_lanes`] compiled for AVX2: eight lanes to a register.
+///
+/// # Safety
+/// The CPU must have AVX2 and FMA. (FMA only makes the instructions
+/// available: Rust never fuses a multiplication and an addition itself, so
+/// the values are the portable build's.)
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn scatter_lanes_avx2(n: usize, input: &Inputs, out: &mut Outputs) {
+    scatter_lanes(n, input, out);
+}
+
+/// The next float up from `x` (`f32::next_up`), without branches.
+#[inline(always)]
+fn next_up(x: f32) -> f32 {
+    step_away(x, false)
+}
+
+/// The next float down from `x` (`f32::next_down`), without branches.
+#[inline(always)]
+fn next_down(x: f32) -> f32 {
+    step_away(x, true)
+}
+
+/// One step of the float grid from `x`: down if `down`, else up. Zeros step
+/// to the smallest subnormal of the step's sign; NaN and the infinity
+/// in the step's direction stay. (The bit-pattern rule of IEEE 754's
+/// nextUp and nextDown, as `f32::next_up` and `f32::next_down` apply it.)
+#[inline(always)]
+fn step_away(x: f32, down: bool) -> f32 {
+    let bits = x.to_bits();
+    let abs = bits & 0x7fff_ffff;
+    let negative = bits != abs;
+    // Away from zero when the step goes the way of the sign, else towards.
+    let away = negative == down;
+    let stepped = if away { bits.wrapping_add(1) } else { bits.wrapping_sub(1) };
+    let tiny = if down { 0x8000_0001 } else { 0x0000_0001 };
+    let stepped = if abs == 0 { tiny } else { stepped };
+    let inf = if down { f32::NEG_INFINITY } else { f32::INFINITY }.to_bits();
+    let keep = x.is_nan() | (bits == inf);
+    f32::from_bits(if keep { bits } else { stepped })
+}
+
+/// The kernel: the scatter stage of lanes `0..n`, each a diffuse vertex.
+/// Its vector loops take the lanes a [`GROUP`] at a time, each group's
+/// values in fixed-size local arrays, so that every group is vector code
+/// (a loop over the count would leave up to 31 lanes to a scalar
+/// remainder).
+#[allow(clippy::needless_range_loop)]
+#[inline(always)]
+fn scatter_lanes(n: usize, input: &Inputs, out: &mut Outputs) {
+    let n = n.min(LANES);
+    let groups = (0..n.div_ceil(GROUP)).map(|g| g * GROUP);
+    // Shirley and Chiu's concentric map (`sampling::concentric_disk`):
+    // the radius and angle of the disk point.
+    // (A loop over the lanes, not over groups: the loop vectoriser takes
+    // it, where it would leave the unrolled groups to scalar code with a
+    // branch for the quotient. The count rounded up to whole groups.)
+    let whole = (n.div_ceil(GROUP) * GROUP).min(LANES);
+    for k in 0..whole {
+        let (ox, oy) = (2.0 * input.u[0][k] - 1.0, 2.0 * input.u[1][k] - 1.0);
+        let wide = ox.abs() > oy.abs();
+        // One quotient, of the operands the lane needs, for either branch
+        // of the map (`oy/ox` or `ox/oy`).
+        let (num, den) = if wide { (oy, ox) } else { (ox, oy) };
+        let q = num / den;
+        out.radius[k] = den;
+        out.theta[k] = if wide { FRAC_PI_4 * q } else { 2.0 * FRAC_PI_4 - FRAC_PI_4 * q };
+    }
+    // The angle's cosine and sine, lane by lane (the library's own).
+    for k in 0..n {
+        (out.cos[k], out.sin[k]) = (out.theta[k].cos(), out.theta[k].sin());
+    }
+    for c in groups {
+        let (u0, u1) = (group(&input.u[0], c), group(&input.u[1], c));
+        let (radius, cos, sin) = (group(&out.radius, c), group(&out.cos, c), group(&out.sin, c));
+        let ([fxx, fxy, fxz], [fyx, fyy, fyz], [fzx, fzy, fzz]) =
+            (input.fx.group(c), input.fy.group(c), input.fz.group(c));
+        let ([wox, woy, woz], [rx, ry, rz]) = (input.wo.group(c), input.r.group(c));
+        let ([betax, betay, betaz], [px, py, pz]) = (input.beta.group(c), input.p.group(c));
+        let ([errx, erry, errz], [nx, ny, nz]) = (input.p_error.group(c), input.n.group(c));
+        let (eta, u_rr, roulette) = (group(&input.eta_scale, c), group(&input.u_rr, c), group(&input.roulette, c));
+        let (mut sampled, mut survives, mut pdf) = ([false; GROUP], [false; GROUP], [0.0; GROUP]);
+        let (mut wi, mut origin, mut beta) = ([[0.0; GROUP]; 3], [[0.0; GROUP]; 3], [[0.0; GROUP]; 3]);
+        for j in 0..GROUP {
+            // `concentric_disk`: the centre of the square maps to the
+            // centre.
+            let (ox, oy) = (2.0 * u0[j] - 1.0, 2.0 * u1[j] - 1.0);
+            let centre = (ox == 0.0) & (oy == 0.0);
+            let (dx, dy) = (radius[j] * cos[j], radius[j] * sin[j]);
+            let (dx, dy) = if centre { (0.0, 0.0) } else { (dx, dy) };
+            // `cosine_hemisphere`, then `DiffuseBxdf::sample_f` on the side
+            // of `wo` (the local z of `wo` is its dot product with the
+            // normal).
+            let z = (1.0 - dx * dx - dy * dy).max(0.0).sqrt();
+            let wo_z = wox[j] * fzx[j] + woy[j] * fzy[j] + woz[j] * fzz[j];
+            let z = if wo_z < 0.0 { -z } else { z };
+            pdf[j] = z.abs() * FRAC_1_PI;
+            let valid = (wo_z != 0.0) & (pdf[j] > 0.0) & (z != 0.0);
+            // `Frame::from_local`.
+            let wx = fxx[j] * dx + fyx[j] * dy + fzx[j] * z;
+            let wy = fxy[j] * dx + fyy[j] * dy + fzy[j] * z;
+            let wz = fxz[j] * dx + fyz[j] * dy + fzz[j] * z;
+            // The scatter stage: f = R/π, then β·f·|cos θ|/pdf.
+            let (f_x, f_y, f_z) = (rx[j] * FRAC_1_PI, ry[j] * FRAC_1_PI, rz[j] * FRAC_1_PI);
+            let carries = (f_x > 0.0) | (f_y > 0.0) | (f_z > 0.0);
+            let t = (wx * fzx[j] + wy * fzy[j] + wz * fzz[j]).abs() / pdf[j];
+            let (bx, by, bz) = (betax[j] * (f_x * t), betay[j] * (f_y * t), betaz[j] * (f_z * t));
+            let finite = bx.is_finite() & by.is_finite() & bz.is_finite();
+            sampled[j] = valid & carries & finite;
+            // `offset_ray_origin`: off the surface by the error bounds
+            // along the normal, on the side of `wi`, then one float
+            // further.
+            let d = nx[j].abs() * errx[j] + ny[j].abs() * erry[j] + nz[j].abs() * errz[j];
+            let (ex, ey, ez) = (d * nx[j], d * ny[j], d * nz[j]);
+            let below = wx * nx[j] + wy * ny[j] + wz * nz[j] < 0.0;
+            let (ex, ey, ez) = if below { (-ex, -ey, -ez) } else { (ex, ey, ez) };
+            for (a, (po, e)) in [(px[j] + ex, ex), (py[j] + ey, ey), (pz[j] + ez, ez)].into_iter().enumerate() {
+                let moved = if e > 0.0 { next_up(po) } else { next_down(po) };
+                origin[a][j] = if (e == 0.0) | e.is_nan() { po } else { moved };
+            }
+            // Russian roulette: survive with probability min(max β·η²,
+            // 0.95).
+            let survive = (bx * eta[j]).max(by * eta[j]).max(bz * eta[j]).min(0.95);
+            let lost = roulette[j] & (u_rr[j] >= survive);
+            let (bx, by, bz) = if roulette[j] { (bx / survive, by / survive, bz / survive) } else { (bx, by, bz) };
+            survives[j] = sampled[j] & !lost;
+            (wi[0][j], wi[1][j], wi[2][j]) = (wx, wy, wz);
+            (beta[0][j], beta[1][j], beta[2][j]) = (bx, by, bz);
+        }
+        set_group(&mut out.sampled, c, sampled);
+        set_group(&mut out.survives, c, survives);
+        set_group(&mut out.pdf, c, pdf);
+        out.wi.set_group(c, wi);
+        out.origin.set_group(c, origin);
+        out.beta.set_group(c, beta);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::DiffuseBxdf;
+    use crate::color::Color;
+    use crate::geometry::{Vec2, Vec3};
+    use crate::integrator::path::PathIntegrator;
+    use crate::material::MaterialId;
+    use crate::medium::MediumInterface;
+    use crate::mesh::VertexAttributes;
+    use crate::sampling::Pcg32;
+
+    /// The branch-free float steps are `f32::next_up` and `f32::next_down`
+    /// on every kind of float.
+    #[test]
+    fn float_steps_equal_the_standard_ones() {
+        let mut rng = Pcg32::new(3, 9);
+        let special = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            f32::MIN_POSITIVE,
+            -f32::MIN_POSITIVE,
+            f32::from_bits(1),
+            f32::from_bits(0x8000_0001),
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+        ];
+        let random = (0..10_000).map(|_| f32::from_bits(rng.next_u32()));
+        for x in special.into_iter().chain(random) {
+            assert_eq!(next_up(x).to_bits(), x.next_up().to_bits(), "next_up({x:e})");
+            assert_eq!(next_down(x).to_bits(), x.next_down().to_bits(), "next_down({x:e})");
+        }
+    }
+
+    /// A random lane's path, hit and diffuse BSDF, and its vertex samples,
+    /// with the corner cases of the concentric map and of the throughput
+    /// mixed in.
+    fn lane(rng: &mut Pcg32, k: usize) -> (PathState, SurfaceInteraction, Bsdf, VertexSamples) {
+        let mut v = || Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+        let (origin, dir, p, n, ns, dpdu) = (v(), v(), v() * 10.0, v().normalize(), v().normalize(), v());
+        let p_error = v().abs() * 1e-5;
+        let mut path = PathState::new(&Ray::new(origin, dir), None);
+        path.beta = Color::new(rng.uniform(), rng.uniform(), rng.uniform()) * [0.01, 1.0, 30.0][k % 3];
+        path.eta_scale = [1.0, 2.25, 0.44][k % 3];
+        path.depth = k as u32 % 8;
+        path.any_non_specular = k % 2 == 0;
+        let si = SurfaceInteraction {
+            t: 1.0,
+            p,
+            p_error,
+            n,
+            ns,
+            uv: Vec2::ZERO,
+            attributes: VertexAttributes::default(),
+            dpdu,
+            dpdv: n.cross(dpdu),
+            material: MaterialId::new(0),
+            light: None,
+            media: MediumInterface::default(),
+        };
+        let mut r = Color::new(rng.uniform(), rng.uniform(), rng.uniform());
+        if k % 11 == 0 {
+            r = Color::ZERO;
+        }
+        let bsdf = Bsdf::new(ns, dpdu, Bxdf::Diffuse(DiffuseBxdf { r }));
+        let mut dir_u = Vec2::new(rng.uniform(), rng.uniform());
+        match k % 13 {
+            // The centre of the square, and points on its diagonals and
+            // axes.
+            0 => dir_u = Vec2::splat(0.5),
+            1 => dir_u = Vec2::new(dir_u.x, dir_u.x),
+            2 => dir_u = Vec2::new(dir_u.x, 1.0 - dir_u.x),
+            3 => dir_u = Vec2::new(0.5, dir_u.y),
+            4 => dir_u = Vec2::new(dir_u.x, 0.5),
+            5 => dir_u = Vec2::ZERO,
+            _ => {}
+        }
+        if k % 17 == 0 {
+            // `wo` in the shading plane.
+            path.ray.dir = bsdf.frame().x;
+        }
+        let u = VertexSamples { light: 0.0, point: Vec2::ZERO, lobe: rng.uniform(), dir: dir_u, rr: rng.uniform() };
+        (path, si, bsdf, u)
+    }
+
+    /// The kernel's scatter stage gives each lane the path state that the
+    /// scalar scatter stage gives it, bit for bit: whether it goes on, the
+    /// count of secondary rays, the throughput, the ray, the pdf and the
+    /// flags, over random lanes in batches of 1 to 64, with roulette and
+    /// without; and the portable build equals the build for this CPU.
+    #[test]
+    fn diffuse_lanes_equal_the_scalar_scatter() {
+        let integrator = PathIntegrator::new(100);
+        let mut rng = Pcg32::new(11, 5);
+        let mut went_on = 0;
+        for batch in 0..300 {
+            let n = 1 + batch % LANES;
+            let lanes: Vec<_> = (0..n).map(|k| lane(&mut rng, k + batch)).collect();
+            let mut paths: Vec<PathState> = lanes.iter().map(|l| l.0).collect();
+            let hits: Vec<Option<SurfaceInteraction>> = lanes.iter().map(|l| Some(l.1)).collect();
+            let mut kernel = DiffuseLanes::new();
+            for (k, (path, si, bsdf, u)) in lanes.iter().enumerate() {
+                assert!(kernel.take(k as u8, path, si, bsdf, u));
+            }
+            // The portable build against the build for this CPU.
+            let mut portable = Outputs::ZERO;
+            scatter_lanes(n, &kernel.input, &mut portable);
+            let mut stats = RayStats::default();
+            let mut next = LaneList::empty();
+            kernel.scatter(&mut paths, &hits, &mut stats, &mut next);
+            for k in 0..n {
+                assert_eq!(portable.sampled[k], kernel.out.sampled[k]);
+                assert_eq!(portable.survives[k], kernel.out.survives[k]);
+                if kernel.out.survives[k] {
+                    let of = |o: &Outputs| (o.wi.get(k), o.origin.get(k), o.beta.get(k), o.pdf[k]);
+                    assert_eq!(of(&portable), of(&kernel.out), "lane {k} of {n}");
+                }
+            }
+            // Lane by lane, the scalar stage.
+            let mut scalar_stats = RayStats::default();
+            for (k, (path, si, bsdf, u)) in lanes.iter().enumerate() {
+                let mut scalar = *path;
+                let goes_on = integrator.scatter(&mut scalar, si, bsdf, u, &mut scalar_stats);
+                assert_eq!(goes_on, next.as_slice().contains(&(k as u8)), "lane {k} of {n}");
+                if !goes_on {
+                    continue;
+                }
+                went_on += 1;
+                let lane = &paths[k];
+                let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+                assert_eq!(bits(lane.beta), bits(scalar.beta), "throughput of lane {k} of {n}");
+                assert_eq!(bits(lane.ray.origin), bits(scalar.ray.origin), "origin of lane {k} of {n}");
+                assert_eq!(bits(lane.ray.dir), bits(scalar.ray.dir), "direction of lane {k} of {n}");
+                assert_eq!(lane.prev_pdf.to_bits(), scalar.prev_pdf.to_bits());
+                assert_eq!((lane.prev_ctx.p, lane.prev_ctx.n), (scalar.prev_ctx.p, scalar.prev_ctx.n));
+                assert_eq!((lane.depth, lane.eta_scale.to_bits()), (scalar.depth, scalar.eta_scale.to_bits()));
+                assert_eq!(
+                    (lane.specular_bounce, lane.indirect, lane.any_non_specular),
+                    (scalar.specular_bounce, scalar.indirect, scalar.any_non_specular)
+                );
+            }
+            assert_eq!(stats.secondary, scalar_stats.secondary, "secondary rays of batch {batch}");
+        }
+        // Most lanes go on.
+        assert!(went_on > 4000, "{went_on}");
+    }
+}
