@@ -18,13 +18,15 @@
 //! 3. **light**: next-event estimation (diffuse vertices sampling a
 //!    rectangle light all at once, in vector code: [`super::light_lanes`]);
 //! 4. **scatter**: the BSDF sample that continues the path, and Russian
-//!    roulette.
+//!    roulette (diffuse vertices all at once, in vector code:
+//!    [`super::scatter_lanes`]).
 //!
 //! This is the structure of vectorised production path tracers (Lee et
 //! al., "Vectorized Production Path Tracing", HPG 2017: queue, then shade
 //! in SIMD; Mitsuba 3 runs its whole loop on wide lanes), in the form that
-//! lets each stage run across lanes: the sample stage does, so does the
-//! light stage for diffuse vertices and rectangle lights, and each stage
+//! lets each stage run across lanes: the sample stage does, so do the
+//! light stage for diffuse vertices and rectangle lights and the scatter
+//! stage for diffuse vertices, and each stage
 //! is a loop over an index list that a vector kernel can take over (for
 //! the lanes it knows; the others keep the scalar code, in the same
 //! loop).
@@ -40,7 +42,7 @@ use super::scatter_lanes::DiffuseLanes;
 use super::{
     material_context, DirectLighting, MediumStep, PathIntegrator, PathVertexState, MAX_INTERFACE_SKIPS, RR_DEPTH,
 };
-use crate::bsdf::Bsdf;
+use crate::bsdf::{Bsdf, Bxdf};
 use crate::color::Color;
 use crate::geometry::{Ray, Vec3};
 use crate::integrator::RayStats;
@@ -311,7 +313,9 @@ impl PathIntegrator {
             for &lane in shade.as_slice() {
                 let i = lane as usize;
                 let (Some(si), Some(bsdf)) = (&hits[i], &bsdfs[i]) else { continue };
-                if diffuse.get_or_insert_with(DiffuseLanes::new).take(lane, &paths[i], si, bsdf, &u[i]) {
+                // (The kernel's buffers are made on the first diffuse lane.)
+                if let Bxdf::Diffuse(lobe) = bsdf.bxdf() {
+                    diffuse.get_or_insert_with(DiffuseLanes::new).take(lane, &paths[i], si, bsdf.frame(), lobe, &u[i]);
                     continue;
                 }
                 if self.scatter(&mut paths[i], si, bsdf, &u[i], stats) {

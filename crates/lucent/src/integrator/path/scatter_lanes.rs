@@ -35,8 +35,8 @@ use super::RR_DEPTH;
 use crate::accel::isa;
 #[cfg(target_arch = "x86_64")]
 use crate::accel::Isa;
-use crate::bsdf::{Bsdf, Bxdf};
-use crate::geometry::{group, set_group, Ray, Vec3Lanes, GROUP, LANES};
+use crate::bsdf::DiffuseBxdf;
+use crate::geometry::{group, set_group, Frame, Ray, Vec3Lanes, GROUP, LANES};
 use crate::integrator::RayStats;
 use crate::interaction::SurfaceInteraction;
 use crate::light::LightSampleContext;
@@ -65,24 +65,23 @@ impl DiffuseLanes {
         self.len = 0;
     }
 
-    /// Take `lane` (its path `path` at `si`, with BSDF `bsdf` and the
-    /// vertex's samples `u`) if its BSDF is a plain diffuse lobe, writing
-    /// what the kernel needs of it into the kernel's inputs while it is at
-    /// hand; `false` leaves it to the scalar scatter stage.
+    /// Take `lane` (its path `path` at `si`, with the diffuse lobe
+    /// `diffuse` in the shading frame `frame`, and the vertex's samples
+    /// `u`), writing what the kernel needs of it into the kernel's inputs
+    /// while it is at hand.
     #[inline]
     pub(super) fn take(
         &mut self,
         lane: u8,
         path: &PathState,
         si: &SurfaceInteraction,
-        bsdf: &Bsdf,
+        frame: &Frame,
+        diffuse: &DiffuseBxdf,
         u: &VertexSamples,
-    ) -> bool {
-        let Bxdf::Diffuse(diffuse) = bsdf.bxdf() else { return false };
+    ) {
         let (k, input) = (self.len, &mut self.input);
         self.lanes[k] = lane;
         self.len += 1;
-        let frame = bsdf.frame();
         input.fx.set(k, frame.x);
         input.fy.set(k, frame.y);
         input.fz.set(k, frame.z);
@@ -96,7 +95,6 @@ impl DiffuseLanes {
         input.u_rr[k] = u.rr;
         input.eta_scale[k] = path.eta_scale;
         input.roulette[k] = path.depth + 1 >= RR_DEPTH;
-        true
     }
 
     /// The scatter stage of the lanes taken: each lane's path gets its new
@@ -372,7 +370,7 @@ fn scatter_lanes(n: usize, input: &Inputs, out: &mut Outputs) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::DiffuseBxdf;
+    use crate::bsdf::{Bsdf, Bxdf};
     use crate::color::Color;
     use crate::geometry::{Vec2, Vec3};
     use crate::integrator::path::PathIntegrator;
@@ -476,7 +474,8 @@ mod tests {
             let hits: Vec<Option<SurfaceInteraction>> = lanes.iter().map(|l| Some(l.1)).collect();
             let mut kernel = DiffuseLanes::new();
             for (k, (path, si, bsdf, u)) in lanes.iter().enumerate() {
-                assert!(kernel.take(k as u8, path, si, bsdf, u));
+                let Bxdf::Diffuse(lobe) = bsdf.bxdf() else { panic!("lane {k} is not diffuse") };
+                kernel.take(k as u8, path, si, bsdf.frame(), lobe, u);
             }
             // The portable build against the build for this CPU.
             let mut portable = Outputs::ZERO;
