@@ -18,7 +18,7 @@ use crate::color::{luminance, Color};
 use crate::geometry::{Ray, Vec2, Vec3};
 use crate::mesh::VertexAttributes;
 use crate::primitive::Primitive;
-use crate::shapes::{Rectangle, Shape};
+use crate::shapes::{Rectangle, Shape, ShapeSample, Sphere};
 use crate::texture::{Texture, TextureContext};
 use std::f32::consts::PI;
 use std::sync::Arc;
@@ -101,6 +101,17 @@ impl AreaLight {
         }
     }
 
+    /// The light's sphere, if it is a sphere without an emission texture:
+    /// the lights whose samples the path integrator computes many at a
+    /// time.
+    #[inline]
+    pub fn plain_sphere(&self) -> Option<&Sphere> {
+        match &self.shape {
+            Shape::Sphere(s) if self.image.is_none() => Some(s),
+            _ => None,
+        }
+    }
+
     /// Radiance leaving a point of the light with unit geometric normal `n`
     /// (the shape's own orientation) in direction `w`: towards the side of
     /// `n` (the side opposite `n` when [`AreaLight::reverse`]), or either
@@ -160,6 +171,14 @@ impl AreaLight {
     #[inline(always)]
     pub fn sample_li(&self, ctx: &LightSampleContext, u: Vec2) -> Option<LiSample> {
         let s = self.shape.sample_solid_angle(ctx.p, u)?;
+        self.sample_li_from(ctx, s)
+    }
+
+    /// [`AreaLight::sample_li`] for the sample `s` of the light's shape
+    /// (from [`Shape::sample_solid_angle`] at `ctx.p`, or computed as it
+    /// would): the direction, radiance and pdf, or `None` where the light
+    /// sends nothing towards `ctx`.
+    pub fn sample_li_from(&self, ctx: &LightSampleContext, s: ShapeSample) -> Option<LiSample> {
         let (p_light, n_light, pdf) = (s.p, s.n, s.pdf);
         let to = p_light - ctx.p;
         let d = to.length();

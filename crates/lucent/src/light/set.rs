@@ -13,6 +13,8 @@ pub struct LightSet {
     distribution: AliasTable,
     /// Whether some light is a plain rectangle ([`LightSet::has_rectangles`]).
     rectangles: bool,
+    /// Whether some light is a plain sphere ([`LightSet::has_spheres`]).
+    spheres: bool,
 }
 
 impl LightSet {
@@ -24,7 +26,8 @@ impl LightSet {
         // finite float (the alias table treats non-finite weights as 0).
         let powers: Vec<f32> = powers.into_iter().map(|p| if p == f32::INFINITY { f32::MAX } else { p }).collect();
         let rectangles = emitters.iter().any(|e| matches!(e, Emitter::Area(a) if a.plain_rectangle().is_some()));
-        Self { emitters, distribution: AliasTable::new(&powers), rectangles }
+        let spheres = emitters.iter().any(|e| matches!(e, Emitter::Area(a) if a.plain_sphere().is_some()));
+        Self { emitters, distribution: AliasTable::new(&powers), rectangles, spheres }
     }
 
     /// Whether some light is a rectangle area light without an emission
@@ -33,6 +36,13 @@ impl LightSet {
     #[inline]
     pub fn has_rectangles(&self) -> bool {
         self.rectangles
+    }
+
+    /// Whether some light is a sphere area light without an emission
+    /// texture (likewise).
+    #[inline]
+    pub fn has_spheres(&self) -> bool {
+        self.spheres
     }
 
     /// The lights.

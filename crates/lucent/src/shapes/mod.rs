@@ -33,7 +33,7 @@ pub use mesh::{DefaultUv, Mesh};
 pub use mesh_bvh::{MeshBvh, MeshHit};
 pub use plane::Plane;
 pub use rectangle::{Rectangle, AREA_SAMPLING_DIAGONALS};
-pub use sphere::Sphere;
+pub use sphere::{sample_cones_lanes, Sphere};
 pub use triangle::{
     triangle_dpduv, triangle_solid_angle, Triangle, MAX_SPHERICAL_SAMPLE_AREA, MIN_SPHERICAL_SAMPLE_AREA,
 };

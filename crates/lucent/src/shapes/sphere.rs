@@ -1,6 +1,6 @@
 use super::placement::Placement;
 use super::{area_to_solid_angle, check_finite, ShapeError, ShapeHit, ShapeSample};
-use crate::geometry::{coordinate_system, gamma, Bounds3, Ray, Transform, Vec2, Vec3};
+use crate::geometry::{coordinate_system, gamma, group, Bounds3, Ray, Transform, Vec2, Vec3, Vec3Lanes, GROUP, LANES};
 use crate::mesh::VertexAttributes;
 use crate::sampling::uniform_sphere;
 use std::f32::consts::PI;
@@ -237,6 +237,15 @@ impl Sphere {
         Some(ShapeSample { p: center + radius * n, n, pdf: 1.0 / (2.0 * PI * one_minus_cos_max) })
     }
 
+    /// Whether [`Sphere::sample_solid_angle`] from `p` samples the cone of
+    /// directions the sphere subtends (a positive radius, not clipped, `p`
+    /// outside): the case [`sample_cones_lanes`] computes.
+    #[inline]
+    pub fn samples_cone_from(&self, p: Vec3) -> bool {
+        let r2 = self.radius * self.radius;
+        self.radius > 0.0 && !self.clipped() && !Self::sampled_by_area((self.center - p).length_squared(), r2)
+    }
+
     /// The solid-angle pdf with which [`Sphere::sample_solid_angle`] from
     /// `p` picks the direction towards `p_shape`, a point of the sphere.
     pub fn pdf_solid_angle(&self, p: Vec3, p_shape: Vec3) -> f32 {
@@ -455,6 +464,83 @@ pub(crate) fn tangents_or_frame(dpdu: Vec3, dpdv: Vec3, n: Vec3) -> (Vec3, Vec3)
         (dpdu, dpdv)
     } else {
         coordinate_system(n)
+    }
+}
+
+/// [`Sphere::sample_solid_angle`] for lanes `0..n`, each from its point
+/// `p` towards its own sphere (centre `center`, radius `radius`) with the
+/// samples `(u[0][i], u[1][i])`, structure of arrays. Every lane must
+/// sample the cone ([`Sphere::samples_cone_from`]). Writes each lane's
+/// point, normal and pdf to `p_light`, `n_light` and `pdf`: the scalar
+/// function's values bit for bit (its operations in its order, with its
+/// branches as selects, so that the loop vectorises; `cos` and `sin` of
+/// the azimuth are the library's, lane by lane).
+#[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
+#[inline(always)]
+pub fn sample_cones_lanes(
+    center: &Vec3Lanes,
+    radius: &[f32; LANES],
+    p: &Vec3Lanes,
+    u: &[[f32; LANES]; 2],
+    n: usize,
+    p_light: &mut Vec3Lanes,
+    n_light: &mut Vec3Lanes,
+    pdf: &mut [f32; LANES],
+) {
+    let n = n.min(LANES);
+    // The azimuth's cosine and sine, lane by lane (the library's own).
+    let (mut cos_phi, mut sin_phi) = ([0.0; LANES], [0.0; LANES]);
+    for k in 0..n {
+        let phi = 2.0 * PI * u[1][k];
+        (cos_phi[k], sin_phi[k]) = (phi.cos(), phi.sin());
+    }
+    // The lanes a [`GROUP`] at a time (see `geometry::GROUP`).
+    for c in (0..n.div_ceil(GROUP)).map(|g| g * GROUP) {
+        let ([cx, cy, cz], [px, py, pz], r) = (center.group(c), p.group(c), group(radius, c));
+        let (u0, cos_phi, sin_phi) = (group(&u[0], c), group(&cos_phi, c), group(&sin_phi, c));
+        let (mut point, mut normal, mut density) = ([[0.0; GROUP]; 3], [[0.0; GROUP]; 3], [0.0; GROUP]);
+        for j in 0..GROUP {
+            let (dx, dy, dz) = (cx[j] - px[j], cy[j] - py[j], cz[j] - pz[j]);
+            let dc2 = dx * dx + dy * dy + dz * dz;
+            let r2 = r[j] * r[j];
+            let sin2_max = r2 / dc2;
+            let sin_max = sin2_max.sqrt();
+            // `one_minus_cos_theta_max`, and cos θ, sin²θ on either side
+            // of its small-cone threshold.
+            let small = sin2_max < SMALL_SIN2;
+            let one_minus_cos_max = if small { sin2_max / 2.0 } else { 1.0 - (1.0 - sin2_max).max(0.0).sqrt() };
+            let s2 = sin2_max * u0[j];
+            let cos_small = (1.0 - s2).sqrt();
+            let cos_large = 1.0 - u0[j] * one_minus_cos_max;
+            let sin2_large = (1.0 - cos_large * cos_large).max(0.0);
+            let (cos_theta, sin2_theta) = if small { (cos_small, s2) } else { (cos_large, sin2_large) };
+            let cos_alpha = sin2_theta / sin_max + cos_theta * (1.0 - sin2_theta / sin2_max).max(0.0).sqrt();
+            let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
+            // The axis from the centre towards the point, and
+            // `coordinate_system` about it.
+            let l = dc2.sqrt();
+            let (ax, ay, az) = ((px[j] - cx[j]) / l, (py[j] - cy[j]) / l, (pz[j] - cz[j]) / l);
+            let sign = 1.0f32.copysign(az);
+            let a = -1.0 / (sign + az);
+            let b = ax * ay * a;
+            let (sx, sy, sz) = (1.0 + sign * ax * ax * a, sign * b, -sign * ax);
+            let (tx, ty, tz) = (b, sign + ay * ay * a, -ay);
+            let (k_s, k_t) = (sin_alpha * cos_phi[j], sin_alpha * sin_phi[j]);
+            let (nx, ny, nz) = (
+                k_s * sx + k_t * tx + cos_alpha * ax,
+                k_s * sy + k_t * ty + cos_alpha * ay,
+                k_s * sz + k_t * tz + cos_alpha * az,
+            );
+            // `Vec3::normalize`: each coordinate divided by the length.
+            let len = (nx * nx + ny * ny + nz * nz).sqrt();
+            let (nx, ny, nz) = (nx / len, ny / len, nz / len);
+            (normal[0][j], normal[1][j], normal[2][j]) = (nx, ny, nz);
+            (point[0][j], point[1][j], point[2][j]) = (cx[j] + r[j] * nx, cy[j] + r[j] * ny, cz[j] + r[j] * nz);
+            density[j] = 1.0 / (2.0 * PI * one_minus_cos_max);
+        }
+        p_light.set_group(c, point);
+        n_light.set_group(c, normal);
+        crate::geometry::set_group(pdf, c, density);
     }
 }
 

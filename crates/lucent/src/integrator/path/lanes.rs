@@ -39,6 +39,7 @@
 
 use super::light_lanes::RectangleLanes;
 use super::scatter_lanes::DiffuseLanes;
+use super::sphere_lanes::SphereLanes;
 use super::{
     material_context, DirectLighting, MediumStep, PathIntegrator, PathVertexState, MAX_INTERFACE_SKIPS, RR_DEPTH,
 };
@@ -237,6 +238,10 @@ impl PathIntegrator {
         // samples carry transmittance). Its buffers are made on first use.
         let kernel = !scene.has_media() && scene.light_set().has_rectangles();
         let mut rectangles: Option<RectangleLanes> = None;
+        // Non-specular vertices whose light is a sphere sample its cone in
+        // the lane kernel ([`SphereLanes`]; likewise not with media).
+        let sphere_kernel = !scene.has_media() && scene.light_set().has_spheres();
+        let mut spheres: Option<SphereLanes> = None;
         // Diffuse vertices scatter in the lane kernel ([`DiffuseLanes`]).
         let mut diffuse: Option<DiffuseLanes> = None;
         while live.len > 0 {
@@ -273,6 +278,9 @@ impl PathIntegrator {
                 if let Some(r) = &mut rectangles {
                     r.clear();
                 }
+                if let Some(s) = &mut spheres {
+                    s.clear();
+                }
                 for &lane in shade.as_slice() {
                     let i = lane as usize;
                     let (Some(si), Some(bsdf)) = (&hits[i], &bsdfs[i]) else { continue };
@@ -281,6 +289,11 @@ impl PathIntegrator {
                     }
                     if kernel
                         && rectangles.get_or_insert_with(RectangleLanes::new).take(scene, lane, si, bsdf, u[i].light)
+                    {
+                        continue;
+                    }
+                    if sphere_kernel
+                        && spheres.get_or_insert_with(SphereLanes::new).take(scene, lane, si, u[i].light, u[i].point)
                     {
                         continue;
                     }
@@ -304,6 +317,9 @@ impl PathIntegrator {
                 }
                 if let Some(r) = &mut rectangles {
                     r.estimate(self, scene, &mut paths, &hits, &bsdfs, &u, stats, &mut interfaces);
+                }
+                if let Some(s) = &mut spheres {
+                    s.estimate(self, scene, &mut paths, &hits, &bsdfs, stats, &mut interfaces);
                 }
             }
             // 4. Continue by sampling the BSDF.

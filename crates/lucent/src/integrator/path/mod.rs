@@ -1,6 +1,7 @@
 mod lanes;
 mod light_lanes;
 mod scatter_lanes;
+mod sphere_lanes;
 
 pub use lanes::PATH_LANES;
 
@@ -9,7 +10,7 @@ use crate::bsdf::{Bsdf, BxDF};
 use crate::color::Color;
 use crate::geometry::{Ray, Vec3};
 use crate::interaction::SurfaceInteraction;
-use crate::light::LightSampleContext;
+use crate::light::{LiSample, LightSampleContext};
 use crate::material::{Material, MaterialContext};
 use crate::medium::{HenyeyGreenstein, MediumEvent, MediumId};
 use crate::sampling::Sampler;
@@ -354,6 +355,26 @@ impl PathIntegrator {
         let emitter = &lights.emitters()[index];
         let ctx = LightSampleContext { p: si.p, n: si.n };
         let Some(ls) = emitter.sample_li(&ctx, u_point) else { return Color::ZERO };
+        self.weigh_light_sample(scene, si, bsdf, wo, emitter.is_delta(), pmf, ls, stats, interfaces)
+    }
+
+    /// The rest of [`PathIntegrator::sample_light`] once the light (a delta
+    /// light if `delta`, picked with probability `pmf`) gave its sample
+    /// `ls`: the BSDF's value, the shadow ray and the MIS weight.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn weigh_light_sample(
+        &self,
+        scene: &Scene,
+        si: &SurfaceInteraction,
+        bsdf: &Bsdf,
+        wo: Vec3,
+        delta: bool,
+        pmf: f32,
+        ls: LiSample,
+        stats: &mut RayStats,
+        interfaces: &mut Option<bool>,
+    ) -> Color {
         if ls.pdf <= 0.0 || ls.l.max_element() <= 0.0 {
             return Color::ZERO;
         }
@@ -369,7 +390,7 @@ impl PathIntegrator {
             return Color::ZERO;
         }
         let p_light = pmf * ls.pdf;
-        if emitter.is_delta() || self.direct == DirectLighting::LightsOnly {
+        if delta || self.direct == DirectLighting::LightsOnly {
             f * ls.l / p_light
         } else {
             let w = power_heuristic(p_light, bsdf.bxdf().pdf(wo_local, wi_local));
