@@ -287,15 +287,20 @@ impl PathIntegrator {
                     if bsdf.is_specular() {
                         continue;
                     }
-                    if kernel
-                        && rectangles.get_or_insert_with(RectangleLanes::new).take(scene, lane, si, bsdf, u[i].light)
-                    {
-                        continue;
-                    }
-                    if sphere_kernel
-                        && spheres.get_or_insert_with(SphereLanes::new).take(scene, lane, si, u[i].light, u[i].point)
-                    {
-                        continue;
+                    // The light pick, made once for both kernels (the scalar
+                    // `sample_light` makes its own), where one may take the
+                    // lane: the rectangle kernel takes only diffuse ones.
+                    let diffuse = kernel && matches!(bsdf.bxdf(), Bxdf::Diffuse(_));
+                    if diffuse || sphere_kernel {
+                        let Some(pick) = scene.light_set().sample(u[i].light) else { continue };
+                        if diffuse && rectangles.get_or_insert_with(RectangleLanes::new).take(scene, lane, si, pick) {
+                            continue;
+                        }
+                        if sphere_kernel
+                            && spheres.get_or_insert_with(SphereLanes::new).take(scene, lane, si, pick, u[i].point)
+                        {
+                            continue;
+                        }
                     }
                     let path = &mut paths[i];
                     let wo = -path.ray.dir;

@@ -71,8 +71,9 @@ impl<'a> RectangleLanes<'a> {
         (self.light, self.near_len, self.far_len) = (None, 0, 0);
     }
 
-    /// Take `lane` (at `si`, with BSDF `bsdf`, light pick `u_light`) if its
-    /// light sample can run in the kernel; `false` leaves it to the scalar
+    /// Take `lane`, a diffuse vertex (at `si`, with `pick`, the index and
+    /// probability of the light its sample picked), if its light sample
+    /// can run in the kernel; `false` leaves it to the scalar
     /// [`PathIntegrator::sample_light`].
     #[inline]
     pub(super) fn take(
@@ -80,14 +81,9 @@ impl<'a> RectangleLanes<'a> {
         scene: &'a Scene,
         lane: u8,
         si: &SurfaceInteraction,
-        bsdf: &Bsdf,
-        u_light: f32,
+        (index, pmf): (usize, f32),
     ) -> bool {
-        if !matches!(bsdf.bxdf(), Bxdf::Diffuse(_)) {
-            return false;
-        }
         let lights = scene.light_set();
-        let Some((index, pmf)) = lights.sample(u_light) else { return false };
         match self.light {
             Some((taken, ..)) if taken != index => return false,
             Some(_) => {}

@@ -72,21 +72,20 @@ impl<'a> SphereLanes<'a> {
         self.len = 0;
     }
 
-    /// Take `lane` (at `si`, with light pick `u_light` and point sample
-    /// `u_point`) if its light is a sphere whose cone the kernel samples;
-    /// `false` leaves it to the scalar [`PathIntegrator::sample_light`].
+    /// Take `lane` (at `si`, with `pick`, the index and probability of the
+    /// light its sample picked, and the point sample `u_point`) if its
+    /// light is a sphere whose cone the kernel samples; `false` leaves it
+    /// to the scalar [`PathIntegrator::sample_light`].
     #[inline]
     pub(super) fn take(
         &mut self,
         scene: &'a Scene,
         lane: u8,
         si: &SurfaceInteraction,
-        u_light: f32,
+        (index, pmf): (usize, f32),
         u_point: Vec2,
     ) -> bool {
-        let lights = scene.light_set();
-        let Some((index, pmf)) = lights.sample(u_light) else { return false };
-        let Emitter::Area(area) = &lights.emitters()[index] else { return false };
+        let Emitter::Area(area) = &scene.light_set().emitters()[index] else { return false };
         let Some(sphere) = area.plain_sphere() else { return false };
         if !sphere.samples_cone_from(si.p) {
             return false;
