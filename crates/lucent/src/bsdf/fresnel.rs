@@ -70,43 +70,70 @@ pub fn fr_dielectric_hemispherical(eta: f32) -> f32 {
     sum * h / 3.0
 }
 
-/// A complex number, just enough arithmetic for [`fr_complex`].
+/// `N` complex numbers side by side, just enough arithmetic for
+/// [`fr_complex`] and [`fr_conductor`]: each operation is a loop over the
+/// lanes, which the compiler turns into vector instructions, and does in
+/// every lane what one complex number's operation does.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Complex {
-    re: f32,
-    im: f32,
+struct Complex<const N: usize> {
+    re: [f32; N],
+    im: [f32; N],
 }
 
-impl Complex {
-    fn new(re: f32, im: f32) -> Self {
+impl<const N: usize> Complex<N> {
+    fn new(re: [f32; N], im: [f32; N]) -> Self {
         Self { re, im }
     }
     fn real(re: f32) -> Self {
-        Self { re, im: 0.0 }
+        Self { re: [re; N], im: [0.0; N] }
+    }
+    fn lanes(f: impl Fn(usize) -> (f32, f32)) -> Self {
+        let (mut re, mut im) = ([0.0; N], [0.0; N]);
+        for j in 0..N {
+            (re[j], im[j]) = f(j);
+        }
+        Self { re, im }
     }
     fn add(self, o: Self) -> Self {
-        Self::new(self.re + o.re, self.im + o.im)
+        Self::lanes(|j| (self.re[j] + o.re[j], self.im[j] + o.im[j]))
     }
     fn sub(self, o: Self) -> Self {
-        Self::new(self.re - o.re, self.im - o.im)
+        Self::lanes(|j| (self.re[j] - o.re[j], self.im[j] - o.im[j]))
     }
     fn mul(self, o: Self) -> Self {
-        Self::new(self.re * o.re - self.im * o.im, self.re * o.im + self.im * o.re)
+        Self::lanes(|j| {
+            let (a, b, c, d) = (self.re[j], self.im[j], o.re[j], o.im[j]);
+            (a * c - b * d, a * d + b * c)
+        })
     }
     fn div(self, o: Self) -> Self {
-        let d = o.re * o.re + o.im * o.im;
-        Self::new((self.re * o.re + self.im * o.im) / d, (self.im * o.re - self.re * o.im) / d)
+        Self::lanes(|j| {
+            let (a, b, c, e) = (self.re[j], self.im[j], o.re[j], o.im[j]);
+            let d = c * c + e * e;
+            ((a * c + b * e) / d, (b * c - a * e) / d)
+        })
     }
-    /// Squared magnitude.
-    fn norm(self) -> f32 {
-        self.re * self.re + self.im * self.im
+    /// Squared magnitudes.
+    fn norm(self) -> [f32; N] {
+        std::array::from_fn(|j| self.re[j] * self.re[j] + self.im[j] * self.im[j])
     }
-    /// Principal square root: `√((|z|+re)/2) + i·sign(im)·√((|z|−re)/2)`.
-    fn sqrt(self) -> Self {
-        let m = self.re.hypot(self.im);
-        let re = (0.5 * (m + self.re)).max(0.0).sqrt();
-        let im = (0.5 * (m - self.re)).max(0.0).sqrt();
-        Self::new(re, if self.im < 0.0 { -im } else { im })
+    /// Principal square roots: `√((|z|+re)/2) + i·sign(im)·√((|z|−re)/2)`.
+    /// `|z|` is the library's `hypot`, lane by lane, for lanes `0..used`;
+    /// the lanes from `used` on copy lane 0's (they hold its number).
+    fn sqrt(self, used: usize) -> Self {
+        let mut m = [0.0; N];
+        for (m, (re, im)) in m.iter_mut().zip(self.re.iter().zip(&self.im)).take(used) {
+            *m = re.hypot(*im);
+        }
+        let first = m[0];
+        for m in m.iter_mut().skip(used) {
+            *m = first;
+        }
+        Self::lanes(|j| {
+            let re = (0.5 * (m[j] + self.re[j])).max(0.0).sqrt();
+            let im = (0.5 * (m[j] - self.re[j])).max(0.0).sqrt();
+            (re, if self.im[j] < 0.0 { -im } else { im })
+        })
     }
 }
 
@@ -119,29 +146,38 @@ impl Complex {
 /// the mean of `|r∥|²` and `|r⊥|²` (PBRT 4th ed., §9.3.6, eq. 9.4–9.6 over
 /// the complex numbers). For `k = 0` this is [`fr_dielectric`].
 pub fn fr_complex(cos_theta_i: f32, eta: f32, k: f32) -> f32 {
+    fr_complex_lanes::<1>(cos_theta_i, [eta], [k], 1)[0]
+}
+
+/// [`fr_complex`] per RGB channel: the three channels in the lanes of one
+/// computation (the fourth repeats the first), so that its divisions and
+/// square roots run side by side.
+pub fn fr_conductor(cos_theta_i: f32, eta: Color, k: Color) -> Color {
+    let r = fr_complex_lanes::<4>(cos_theta_i, [eta.x, eta.y, eta.z, eta.x], [k.x, k.y, k.z, k.x], 3);
+    Color::new(r[0], r[1], r[2])
+}
+
+/// [`fr_complex`] of each lane's index `eta[j] + i·k[j]`, the lanes from
+/// `used` on holding lane 0's (see [`Complex::sqrt`]).
+#[inline(always)]
+fn fr_complex_lanes<const N: usize>(cos_theta_i: f32, eta: [f32; N], k: [f32; N], used: usize) -> [f32; N] {
     let cos_i = cos_theta_i.clamp(0.0, 1.0);
     let eta = Complex::new(eta, k);
     let sin2_i = Complex::real(1.0 - cos_i * cos_i);
     let sin2_t = sin2_i.div(eta.mul(eta));
-    let cos_t = Complex::real(1.0).sub(sin2_t).sqrt();
+    let cos_t = Complex::real(1.0).sub(sin2_t).sqrt(used);
     let ci = Complex::real(cos_i);
     let r_parl = eta.mul(ci).sub(cos_t).div(eta.mul(ci).add(cos_t));
     let r_perp = ci.sub(eta.mul(cos_t)).div(ci.add(eta.mul(cos_t)));
-    let r = 0.5 * (r_parl.norm() + r_perp.norm());
-    if r.is_finite() {
-        r.clamp(0.0, 1.0)
-    } else {
-        1.0
-    }
-}
-
-/// [`fr_complex`] per RGB channel.
-pub fn fr_conductor(cos_theta_i: f32, eta: Color, k: Color) -> Color {
-    Color::new(
-        fr_complex(cos_theta_i, eta.x, k.x),
-        fr_complex(cos_theta_i, eta.y, k.y),
-        fr_complex(cos_theta_i, eta.z, k.z),
-    )
+    let (parl, perp) = (r_parl.norm(), r_perp.norm());
+    std::array::from_fn(|j| {
+        let r = 0.5 * (parl[j] + perp[j]);
+        if r.is_finite() {
+            r.clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
+    })
 }
 
 /// Schlick's approximation `F = r0 + (1 − r0)(1 − cos θ)⁵` with a colour
@@ -234,5 +270,66 @@ mod tests {
         }
         assert!((f as f64 - fine).abs() < 2e-5, "{f} {fine}");
         assert!((f - 0.0918).abs() < 0.002, "{f}");
+    }
+
+    /// The conductor's reflectance one complex operation at a time, on
+    /// plain floats (the form before the lanes): the reference that the
+    /// lane code must equal bit for bit.
+    fn fr_complex_one_by_one(cos_theta_i: f32, eta: f32, k: f32) -> f32 {
+        type C = (f32, f32);
+        let add = |a: C, b: C| (a.0 + b.0, a.1 + b.1);
+        let sub = |a: C, b: C| (a.0 - b.0, a.1 - b.1);
+        let mul = |a: C, b: C| (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0);
+        let div = |a: C, b: C| {
+            let d = b.0 * b.0 + b.1 * b.1;
+            ((a.0 * b.0 + a.1 * b.1) / d, (a.1 * b.0 - a.0 * b.1) / d)
+        };
+        let sqrt = |a: C| {
+            let m = a.0.hypot(a.1);
+            let (re, im) = ((0.5 * (m + a.0)).max(0.0).sqrt(), (0.5 * (m - a.0)).max(0.0).sqrt());
+            (re, if a.1 < 0.0 { -im } else { im })
+        };
+        let norm = |a: C| a.0 * a.0 + a.1 * a.1;
+        let cos_i = cos_theta_i.clamp(0.0, 1.0);
+        let eta = (eta, k);
+        let cos_t = sqrt(sub((1.0, 0.0), div((1.0 - cos_i * cos_i, 0.0), mul(eta, eta))));
+        let ci = (cos_i, 0.0);
+        let r_parl = div(sub(mul(eta, ci), cos_t), add(mul(eta, ci), cos_t));
+        let r_perp = div(sub(ci, mul(eta, cos_t)), add(ci, mul(eta, cos_t)));
+        let r = 0.5 * (norm(r_parl) + norm(r_perp));
+        if r.is_finite() {
+            r.clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
+    }
+
+    /// `fr_complex` and every channel of `fr_conductor` (three channels in
+    /// vector lanes) are the one-by-one computation bit for bit: random
+    /// angles and indices of metals and of dielectrics, with normal and
+    /// grazing incidence, angles outside [0, 1], zero and huge indices.
+    #[test]
+    fn conductor_lanes_equal_the_one_by_one_formula() {
+        let mut rng = crate::sampling::Pcg32::new(21, 4);
+        let specials = [0.0, 1.0, 1e-30, 1e30, 0.5];
+        for n in 0..20_000 {
+            let mut cos = rng.uniform();
+            match n % 9 {
+                0 => cos = 0.0,
+                1 => cos = 1.0,
+                2 => cos = -0.3,
+                3 => cos = 1.7,
+                _ => {}
+            }
+            let mut pick = || if n % 13 == 0 { specials[(n / 13) % 5] } else { 5.0 * rng.uniform() };
+            let (eta, k) = (Color::new(pick(), pick(), pick()), Color::new(pick(), pick(), pick()));
+            let k = if n % 7 == 0 { Color::ZERO } else { k };
+            let lanes = fr_conductor(cos, eta, k);
+            for c in 0..3 {
+                let expected = fr_complex_one_by_one(cos, eta[c], k[c]);
+                assert_eq!(lanes[c].to_bits(), expected.to_bits(), "channel {c}: cos {cos}, η {}, k {}", eta[c], k[c]);
+                assert_eq!(fr_complex(cos, eta[c], k[c]).to_bits(), expected.to_bits());
+            }
+        }
     }
 }
