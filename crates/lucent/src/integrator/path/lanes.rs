@@ -16,7 +16,9 @@
 //! 2. **samples**: the five sample dimensions of the vertex ([`VertexSamples`])
 //!    for every shading lane at once ([`Sampler::vertex_lanes`]);
 //! 3. **light**: next-event estimation (diffuse vertices sampling a
-//!    rectangle light all at once, in vector code: [`super::light_lanes`]);
+//!    rectangle light all at once, in vector code: [`super::light_lanes`];
+//!    the points of sphere lights for any non-specular vertex likewise:
+//!    [`super::sphere_lanes`]);
 //! 4. **scatter**: the BSDF sample that continues the path, and Russian
 //!    roulette (diffuse vertices all at once, in vector code:
 //!    [`super::scatter_lanes`]).
@@ -25,8 +27,8 @@
 //! al., "Vectorized Production Path Tracing", HPG 2017: queue, then shade
 //! in SIMD; Mitsuba 3 runs its whole loop on wide lanes), in the form that
 //! lets each stage run across lanes: the sample stage does, so do the
-//! light stage for diffuse vertices and rectangle lights and the scatter
-//! stage for diffuse vertices, and each stage
+//! light stage for diffuse vertices and rectangle lights, the sampling of
+//! sphere lights and the scatter stage for diffuse vertices, and each stage
 //! is a loop over an index list that a vector kernel can take over (for
 //! the lanes it knows; the others keep the scalar code, in the same
 //! loop).
