@@ -62,7 +62,7 @@ use super::equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere
 use crate::color::{luminance, Color};
 use crate::geometry::{Transform, Vec2, Vec3};
 use crate::memory::prefetch;
-use crate::sampling::{uniform_sphere, PiecewiseConstant2D};
+use crate::sampling::{uniform_sphere, PiecewiseConstant2D, RowSample};
 use crate::texels::{check_image_size, ImageSizeError, TexelGrid};
 use crate::texture::{read_image, ColorEncoding, ImageError, TextureImage};
 use glam::Mat3;
@@ -263,11 +263,40 @@ const MEMORY: &str = "<memory>";
 /// The unit direction (in the environment's own frame) at `(u, v)` of the
 /// equirectangular mapping described in the module docs.
 pub fn equirect_direction(uv: Vec2) -> Vec3 {
+    equirect_direction_sin(uv).0
+}
+
+/// [`equirect_direction`] and `sin θ = sin(π v)`, which the direction's
+/// solid-angle density needs too ([`equirect_solid_angle_pdf`]).
+#[inline]
+fn equirect_direction_sin(uv: Vec2) -> (Vec3, f32) {
     let theta = PI * uv.y;
     let phi = 2.0 * PI * (uv.x - 0.5);
     let (sin_t, cos_t) = theta.sin_cos();
     let (sin_p, cos_p) = phi.sin_cos();
-    Vec3::new(sin_t * sin_p, cos_t, -sin_t * cos_p)
+    (Vec3::new(sin_t * sin_p, cos_t, -sin_t * cos_p), sin_t)
+}
+
+/// The solid-angle density of a lat-long direction at polar angle `θ`
+/// (given as `sin θ`) whose square density is `pdf_uv`: the map takes
+/// `[0, 1]²` onto the sphere with `dω = 2π² sin θ du dv` (PBRT 4th ed.,
+/// §12.5.2). 0 at the poles, where the mapping degenerates.
+#[inline]
+fn equirect_solid_angle_pdf(sin_theta: f32, pdf_uv: f32) -> f32 {
+    if sin_theta.is_nan() || sin_theta <= 0.0 {
+        return 0.0;
+    }
+    pdf_uv / (2.0 * PI * PI * sin_theta)
+}
+
+/// `pdf`, or 0 where it is infinite or NaN.
+#[inline]
+fn finite_or_zero(pdf: f32) -> f32 {
+    if pdf.is_finite() {
+        pdf
+    } else {
+        0.0
+    }
 }
 
 /// The `(u, v)` in `[0, 1]²` of unit direction `d` (in the environment's
@@ -608,47 +637,49 @@ impl EnvironmentMap {
     /// is `pdf_uv`; 0 where the mapping degenerates.
     #[inline]
     fn solid_angle_pdf(&self, uv: Vec2, pdf_uv: f32) -> f32 {
-        let pdf = match self.mapping {
-            EnvironmentMapping::Equirectangular => {
-                let sin_theta = (PI * uv.y).sin();
-                if sin_theta.is_nan() || sin_theta <= 0.0 {
-                    return 0.0;
-                }
-                pdf_uv / (2.0 * PI * PI * sin_theta)
-            }
+        finite_or_zero(match self.mapping {
+            EnvironmentMapping::Equirectangular => equirect_solid_angle_pdf((PI * uv.y).sin(), pdf_uv),
             EnvironmentMapping::EqualArea => pdf_uv / (4.0 * PI),
-        };
-        if pdf.is_finite() {
-            pdf
-        } else {
-            0.0
-        }
+        })
     }
 
     fn sample_li(&self, u: Vec2) -> Option<LiSample> {
         let (uv, pdf_uv) = self.distribution.sample(u);
+        self.sample_li_at(uv, pdf_uv)
+    }
+
+    /// The light sample at `uv`, a point the distribution drew with
+    /// density `pdf_uv`.
+    #[inline]
+    fn sample_li_at(&self, uv: Vec2, pdf_uv: f32) -> Option<LiSample> {
         if pdf_uv.is_nan() || pdf_uv <= 0.0 {
             return None;
         }
-        let pdf = self.solid_angle_pdf(uv, pdf_uv);
+        // (A lat-long map's direction and density share one sin θ.)
+        let (d, pdf) = match self.mapping {
+            EnvironmentMapping::Equirectangular => {
+                let (d, sin_theta) = equirect_direction_sin(uv);
+                (d, equirect_solid_angle_pdf(sin_theta, pdf_uv))
+            }
+            EnvironmentMapping::EqualArea => (equal_area_square_to_sphere(uv), pdf_uv / (4.0 * PI)),
+        };
+        let pdf = finite_or_zero(pdf);
         if pdf <= 0.0 {
             return None;
         }
-        let wi = self.to_world(self.mapping.direction(uv));
+        let wi = self.to_world(d);
         let l = self.lookup(uv);
         (l != Color::ZERO).then_some(LiSample { l, wi, pdf, p_light: None })
     }
 
-    /// See [`Environment::prefetch_sample_li`].
+    /// See [`Environment::sample_li_locate`].
     #[inline]
-    fn prefetch_sample_li(&self, u: Vec2, row: Option<usize>) -> usize {
-        let Some(row) = row else { return self.distribution.prefetch_row(u) };
-        let (first, last) = self.distribution.prefetch_row_bins(row, u.x);
+    fn sample_li_locate(&self, s: &mut RowSample, u: Vec2) {
+        let (first, last) = self.distribution.locate_in_row(s, u.x);
         // The distribution's cells are the pixels, row by row.
         let pixels = self.texels.pixels();
         prefetch(pixels.as_ptr().wrapping_add(first), 1);
         prefetch(pixels.as_ptr().wrapping_add(last), 1);
-        row
     }
 
     fn pdf_li(&self, wi: Vec3) -> f32 {
@@ -793,16 +824,58 @@ impl Environment {
         matches!(self, Environment::Image(_))
     }
 
-    /// Ask for the memory that [`Environment::sample_li`] of `u` will read,
-    /// without waiting for it, in two steps, each taken for many samples
-    /// before any is sampled (see [`PiecewiseConstant2D::prefetch_row`]):
-    /// the first (`step: None`) returns a token for the second
-    /// (`step: Some(token)`). Nothing for a constant environment.
+    /// The first of three steps that take [`Environment::sample_li`] of
+    /// `u` for an image, for a caller with many samples to take, who runs
+    /// each step over all of them before the next, so that the cache misses
+    /// of their reads (a large map's sampling tables and pixels are read at
+    /// random) overlap; each step asks for the memory of the next (see
+    /// [`RowSample`]). This one picks the row of the image. `None` for a
+    /// constant environment (whose samples read no memory: take them with
+    /// [`Environment::sample_li`]).
+    ///
+    /// ```
+    /// use lucent::color::Color;
+    /// use lucent::geometry::Vec2;
+    /// use lucent::geometry::Vec3;
+    /// use lucent::light::{Environment, EnvironmentMap, LightSampleContext};
+    /// use std::sync::Arc;
+    ///
+    /// let pixels = (0..32).map(|i| Color::splat(i as f32)).collect();
+    /// let env = Environment::Image(Arc::new(EnvironmentMap::new(8, 4, pixels, 1.0, 0.0).unwrap()));
+    /// let u = Vec2::new(0.3, 0.7);
+    /// let mut s = env.sample_li_start(u).unwrap();
+    /// env.sample_li_locate(&mut s, u);
+    /// let ctx = LightSampleContext { p: Vec3::ZERO, n: Vec3::Y };
+    /// assert_eq!(env.sample_li_finish(&s, u), env.sample_li(&ctx, u));
+    /// ```
     #[inline]
-    pub fn prefetch_sample_li(&self, u: Vec2, step: Option<usize>) -> usize {
+    pub fn sample_li_start(&self, u: Vec2) -> Option<RowSample> {
         match self {
-            Environment::Image(map) => map.prefetch_sample_li(u, step),
-            Environment::Constant(_) => 0,
+            Environment::Image(map) => Some(map.distribution.sample_row(u)),
+            Environment::Constant(_) => None,
+        }
+    }
+
+    /// The second step (see [`Environment::sample_li_start`]): finds where
+    /// in its row the sample will fall, and asks for the memory of that
+    /// part of the row and of its pixels.
+    #[inline]
+    pub fn sample_li_locate(&self, s: &mut RowSample, u: Vec2) {
+        if let Environment::Image(map) = self {
+            map.sample_li_locate(s, u);
+        }
+    }
+
+    /// The last step (see [`Environment::sample_li_start`]): the light
+    /// sample, [`Environment::sample_li`]'s of `u` bit for bit.
+    #[inline]
+    pub fn sample_li_finish(&self, s: &RowSample, u: Vec2) -> Option<LiSample> {
+        match self {
+            Environment::Image(map) => {
+                let (uv, pdf_uv) = map.distribution.sample_in_row(s, u.x);
+                map.sample_li_at(uv, pdf_uv)
+            }
+            Environment::Constant(_) => None,
         }
     }
 
@@ -942,7 +1015,17 @@ mod tests {
         let mut sum2 = 0.0f64;
         let mut dirs = Vec::new();
         for _ in 0..m {
-            if let Some(s) = env.sample_li(&ctx, Vec2::new(rng.uniform(), rng.uniform())) {
+            let u = Vec2::new(rng.uniform(), rng.uniform());
+            let sample = env.sample_li(&ctx, u);
+            // Taken in steps, an image's sample is the same, bit for bit.
+            if let Some(mut staged) = env.sample_li_start(u) {
+                env.sample_li_locate(&mut staged, u);
+                let bits = |s: Option<LiSample>| {
+                    s.map(|s| (s.l.to_array().map(f32::to_bits), s.wi.to_array().map(f32::to_bits), s.pdf.to_bits()))
+                };
+                assert_eq!(bits(env.sample_li_finish(&staged, u)), bits(sample), "{u}");
+            }
+            if let Some(s) = sample {
                 assert!(s.p_light.is_none());
                 let pdf = env.pdf_li(s.wi);
                 assert!((pdf - s.pdf).abs() <= 2e-3 * s.pdf, "pdf_li {pdf} vs sample {}", s.pdf);

@@ -18,9 +18,9 @@
 //! two flat arrays (the bins, the guide tables), so that a sample's reads
 //! depend on no pointer but the row. For a large table (an environment
 //! map of 512 × 256 has 1 MB of rows) the row's guide entries and bins are
-//! usually cache misses; [`PiecewiseConstant2D::prefetch_row`] and
-//! [`PiecewiseConstant2D::prefetch_row_bins`] let a caller with many
-//! samples to take ask for that memory first, so that the misses overlap.
+//! usually cache misses; a caller with many samples to take can take them
+//! in steps ([`RowSample`]), each asking for the memory of the next, so
+//! that the misses overlap.
 //!
 //! **Zero functions.** A function that is zero everywhere (or has no
 //! entries) cannot be normalised. All three types then fall back to the
@@ -159,21 +159,34 @@ impl PiecewiseConstant1D {
     }
 }
 
-/// The number of entries of the CDF in `bins` that are `≤ u`: the full
-/// binary search's answer, found within `u`'s slice of the guide table
-/// `guide` (see [`PiecewiseConstant1D`]'s fields).
+/// The entries `lo..hi` of the CDF in `bins` among which the search for
+/// `u` ends: those of `u`'s slice of the guide table `guide` (see
+/// [`PiecewiseConstant1D`]'s fields) for `u` in `[0, 1)`, all of them for
+/// any other `u` (or NaN). Every entry before `lo` is `≤ u` and every entry
+/// from `hi` on is `> u`.
 #[inline]
-fn cdf_rank(bins: &[[f32; 2]], guide: &[u32], u: f32) -> usize {
+fn cdf_span(bins: &[[f32; 2]], guide: &[u32], u: f32) -> (usize, usize) {
     if !(0.0..1.0).contains(&u) {
-        // Outside [0, 1) (or NaN): the full search.
-        return bins.partition_point(|b| b[0] <= u);
+        return (0, bins.len());
     }
     let k = guide_slice(guide, u);
-    let lo = guide[k] as usize;
-    let hi = guide[k + 1] as usize;
-    // Every entry before `lo` is ≤ k/K ≤ u; every entry from `hi` on is
-    // > (k+1)/K > u.
+    // Every entry before guide[k] is ≤ k/K ≤ u; every entry from
+    // guide[k + 1] on is > (k+1)/K > u.
+    (guide[k] as usize, guide[k + 1] as usize)
+}
+
+/// The number of entries of the CDF in `bins` that are `≤ u`, given the
+/// span `lo..hi` from [`cdf_span`]: the full binary search's answer.
+#[inline]
+fn cdf_rank_in(bins: &[[f32; 2]], (lo, hi): (usize, usize), u: f32) -> usize {
     lo + bins[lo..hi].partition_point(|b| b[0] <= u)
+}
+
+/// The number of entries of the CDF in `bins` that are `≤ u` (with the
+/// guide table `guide`).
+#[cfg(test)]
+fn cdf_rank(bins: &[[f32; 2]], guide: &[u32], u: f32) -> usize {
+    cdf_rank_in(bins, cdf_span(bins, guide, u), u)
 }
 
 /// The guide slice `⌊u K⌋` of `u` in `[0, 1)` (`u·K` is exact: `K` is a
@@ -184,20 +197,26 @@ fn guide_slice(guide: &[u32], u: f32) -> usize {
     ((u * slices as f32) as usize).min(slices - 1)
 }
 
-/// The bin that [`sample_table`] picks for `u`: the last bin whose CDF
-/// start is `≤ u` (zero-width bins are skipped, because the next bin
-/// starts at the same value).
+/// The bin that a sample `u` picks, given its span from [`cdf_span`]: the
+/// last bin whose CDF start is `≤ u` (zero-width bins are skipped, because
+/// the next bin starts at the same value).
 #[inline]
-fn sampled_bin(bins: &[[f32; 2]], guide: &[u32], u: f32) -> usize {
-    cdf_rank(bins, guide, u).saturating_sub(1).min(bins.len() - 2)
+fn sampled_bin_in(bins: &[[f32; 2]], span: (usize, usize), u: f32) -> usize {
+    cdf_rank_in(bins, span, u).saturating_sub(1).min(bins.len() - 2)
 }
 
 /// [`PiecewiseConstant1D::sample`] of the table `bins` with its guide
 /// table `guide`.
 #[inline]
 fn sample_table(bins: &[[f32; 2]], guide: &[u32], u: f32) -> (f32, f32, usize) {
+    sample_span(bins, cdf_span(bins, guide, u), u)
+}
+
+/// [`sample_table`] once the span of the search is known.
+#[inline]
+fn sample_span(bins: &[[f32; 2]], span: (usize, usize), u: f32) -> (f32, f32, usize) {
     let n = bins.len() - 1;
-    let o = sampled_bin(bins, guide, u);
+    let o = sampled_bin_in(bins, span, u);
     let [start, density] = bins[o];
     let width = bins[o + 1][0] - start;
     let mut du = u - start;
@@ -206,6 +225,37 @@ fn sample_table(bins: &[[f32; 2]], guide: &[u32], u: f32) -> (f32, f32, usize) {
     }
     let x = ((o as f32 + du.clamp(0.0, 1.0)) / n as f32).min(1.0 - f32::EPSILON / 2.0);
     (x, density, o)
+}
+
+/// A sample of a [`PiecewiseConstant2D`] taken in three steps, for a
+/// caller with many samples to take: each step asks for the memory the
+/// next one reads, and the caller runs each step over all its samples
+/// before the next, so that their cache misses (a large table's rows are
+/// read at random) overlap instead of following one another.
+///
+/// 1. [`PiecewiseConstant2D::sample_row`]: the row, from the marginal table
+///    (small, and cached); asks for the row's guide entries;
+/// 2. [`PiecewiseConstant2D::locate_in_row`]: reads them; asks for the
+///    bins the search will read;
+/// 3. [`PiecewiseConstant2D::sample_in_row`]: the search, and the point:
+///    bit for bit [`PiecewiseConstant2D::sample`]'s.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RowSample {
+    /// The point's `v` and its marginal density.
+    v: f32,
+    pdf_v: f32,
+    /// The row.
+    row: u32,
+    /// The span of the row's CDF the search reads (from step 2).
+    lo: u32,
+    hi: u32,
+}
+
+impl RowSample {
+    /// The sampled row.
+    pub fn row(&self) -> usize {
+        self.row as usize
+    }
 }
 
 /// A piecewise-constant density on `[0, 1]²` over an `nu × nv` grid, sampled
@@ -281,42 +331,41 @@ impl PiecewiseConstant2D {
         (&self.conditional[row * b..(row + 1) * b], &self.conditional_guide[row * g..(row + 1) * g])
     }
 
-    /// Ask for the memory that [`PiecewiseConstant2D::sample`] of `u`
-    /// will read, without waiting for it, in two steps that the caller
-    /// interleaves over many samples: this first step picks `u`'s row
-    /// (from the marginal table, small and cached), asks for the row's
-    /// guide entries and returns the row, for the second step,
-    /// [`PiecewiseConstant2D::prefetch_row_bins`].
-    ///
-    /// A row is anywhere in the table, so for a large table each step is
-    /// likely a cache miss. A caller that runs the first step for many
-    /// samples, then the second for all of them, then samples them,
-    /// overlaps those misses instead of waiting for each in turn.
+    /// The first step of a sample taken in steps ([`RowSample`]): `u.y`
+    /// picks the row; the row's guide entries for `u.x` are asked for.
     #[inline]
-    pub fn prefetch_row(&self, u: Vec2) -> usize {
-        let row = sampled_bin(&self.marginal.bins, &self.marginal.guide, u.y);
+    pub fn sample_row(&self, u: Vec2) -> RowSample {
+        let (v, pdf_v, row) = self.marginal.sample(u.y);
         let (_, guide) = self.row(row);
         let k = guide_slice(guide, u.x);
         prefetch(guide.as_ptr().wrapping_add(k), 1);
-        row
+        RowSample { v, pdf_v, row: row as u32, lo: 0, hi: 0 }
     }
 
-    /// The second step of [`PiecewiseConstant2D::prefetch_row`]: read
-    /// row `row`'s guide entries for `u_x` and ask for the bins the
-    /// search will read. Returns the cells (row by row, as
+    /// The second step: read the row's guide entries for `u_x` and ask for
+    /// the bins the search will read. Returns the cells (row by row, as
     /// [`PiecewiseConstant2D::cell`]) among which the sample will fall,
     /// first and last, for a caller that looks data of the cell up too.
     #[inline]
-    pub fn prefetch_row_bins(&self, row: usize, u_x: f32) -> (usize, usize) {
+    pub fn locate_in_row(&self, s: &mut RowSample, u_x: f32) -> (usize, usize) {
+        let row = s.row();
         let (bins, guide) = self.row(row);
-        let k = guide_slice(guide, u_x);
-        // The search reads bins[lo..hi], and the sample falls in bin
-        // rank − 1 with the rank in lo..=hi.
-        let (lo, hi) = (guide[k] as usize, guide[k + 1] as usize);
+        let (lo, hi) = cdf_span(bins, guide, u_x);
+        (s.lo, s.hi) = (lo as u32, hi as u32);
+        // The sample falls in bin rank − 1 with the rank in lo..=hi.
         let (first, last) = (lo.saturating_sub(1).min(self.nu - 1), hi.saturating_sub(1).min(self.nu - 1));
         prefetch(bins.as_ptr().wrapping_add(first), 1);
         prefetch(bins.as_ptr().wrapping_add(last + 1), 1);
         (row * self.nu + first, row * self.nu + last)
+    }
+
+    /// The last step: the point and its density, those of
+    /// [`PiecewiseConstant2D::sample`] of the same `u` bit for bit.
+    #[inline]
+    pub fn sample_in_row(&self, s: &RowSample, u_x: f32) -> (Vec2, f32) {
+        let (bins, _) = self.row(s.row());
+        let (x, pdf_u, _) = sample_span(bins, (s.lo as usize, s.hi as usize), u_x);
+        (Vec2::new(x, s.v), s.pdf_v * pdf_u)
     }
 
     /// The density at `uv`: exactly what [`PiecewiseConstant2D::sample`]
@@ -615,13 +664,13 @@ mod tests {
         }
     }
 
-    /// The prefetch steps name the memory the sample will read: the row
-    /// of `prefetch_row` is the sample's row, and the sample's cell (the
-    /// bins its two searches pick) lies
-    /// between the cells `prefetch_row_bins` returns, for tables with zero
-    /// rows, zero runs and spikes, and samples on the slice boundaries.
+    /// A sample taken in steps ([`RowSample`]) is [`PiecewiseConstant2D::sample`]'s
+    /// bit for bit, and the sample's cell (the bins its two searches pick)
+    /// lies between the cells `locate_in_row` returns, for tables with zero
+    /// rows, zero runs and spikes, and samples on the slice boundaries and
+    /// outside `[0, 1)`.
     #[test]
-    fn prefetch_steps_name_the_sampled_row_and_cells() {
+    fn samples_in_steps_equal_samples_at_once() {
         let mut rng = Pcg32::new(23, 1);
         for (nu, nv) in [(1, 1), (7, 3), (64, 32), (513, 5)] {
             for shape in 0..3 {
@@ -642,17 +691,24 @@ mod tests {
                 let slices = (d.guide_len - 1) as f32;
                 let mut us: Vec<Vec2> = (0..3000).map(|_| Vec2::new(rng.uniform(), rng.uniform())).collect();
                 us.extend((0..d.guide_len - 1).map(|k| Vec2::new(k as f32 / slices, rng.uniform())));
-                us.extend([Vec2::ZERO, Vec2::splat(1.0f32.next_down())]);
+                us.extend([Vec2::ZERO, Vec2::splat(1.0f32.next_down()), Vec2::new(1.0, 0.5), Vec2::new(-0.25, 0.5)]);
                 for u in us {
                     // The cell the sample's searches pick (the point itself
                     // may round onto the next cell's edge).
                     let (_, _, sampled_row) = d.marginal.sample(u.y);
                     let (bins, guide) = d.row(sampled_row);
                     let cell = sampled_row * nu + sample_table(bins, guide, u.x).2;
-                    let row = d.prefetch_row(u);
-                    assert_eq!(row, sampled_row, "{nu}×{nv}, shape {shape}, {u}");
-                    let (first, last) = d.prefetch_row_bins(row, u.x);
+                    let mut s = d.sample_row(u);
+                    assert_eq!(s.row(), sampled_row, "{nu}×{nv}, shape {shape}, {u}");
+                    let (first, last) = d.locate_in_row(&mut s, u.x);
                     assert!((first..=last).contains(&cell), "{nu}×{nv}, shape {shape}, {u}: {cell} ∉ {first}..={last}");
+                    let (p, pdf) = d.sample_in_row(&s, u.x);
+                    let (p0, pdf0) = d.sample(u);
+                    assert_eq!(
+                        (p.x.to_bits(), p.y.to_bits(), pdf.to_bits()),
+                        (p0.x.to_bits(), p0.y.to_bits(), pdf0.to_bits()),
+                        "{nu}×{nv}, shape {shape}, {u}"
+                    );
                 }
             }
         }

@@ -39,6 +39,7 @@
 //! batches (and the number of threads), and equal to tracing each path
 //! alone ([`crate::integrator::Integrator::li`] is a batch of one).
 
+use super::environment_lanes::EnvironmentLanes;
 use super::light_lanes::RectangleLanes;
 use super::scatter_lanes::DiffuseLanes;
 use super::sphere_lanes::SphereLanes;
@@ -50,7 +51,7 @@ use crate::color::Color;
 use crate::geometry::{Ray, Vec3};
 use crate::integrator::RayStats;
 use crate::interaction::SurfaceInteraction;
-use crate::light::{Emitter, Environment, LightSampleContext};
+use crate::light::{Emitter, LightSampleContext};
 use crate::medium::MediumId;
 use crate::sampling::{Sampler, VertexSamples};
 use crate::scene::Scene;
@@ -156,56 +157,6 @@ impl LaneList {
     }
 }
 
-/// The lanes that will sample an environment map in the next-event stage,
-/// with the rows their samples fall in: the memory of their samples is
-/// asked for in two steps (see
-/// [`crate::light::Environment::prefetch_sample_li`]), each over all the
-/// lanes before the next, so that their cache misses (a large map's
-/// sampling tables and pixels are read at random) overlap instead of
-/// stalling each lane's light sample in turn.
-struct EnvironmentPrefetch<'a> {
-    env: &'a Environment,
-    /// The environment's index among the scene's lights.
-    index: usize,
-    /// `(lane, token)` of [`crate::light::Environment::prefetch_sample_li`].
-    lanes: [(u8, usize); PATH_LANES],
-    len: usize,
-}
-
-impl<'a> EnvironmentPrefetch<'a> {
-    /// For a scene whose environment is an image; `None` in scenes without
-    /// one, or with media (whose light samples take another path).
-    fn new(scene: &'a Scene) -> Option<Self> {
-        let (index, env) = scene.environment_light()?;
-        (env.is_image() && !scene.has_media()).then_some(Self { env, index, lanes: [(0, 0); PATH_LANES], len: 0 })
-    }
-
-    /// The first step, for the lanes of `shade` whose vertex is not
-    /// specular and whose light pick is the environment. (Both steps run
-    /// once a bounce, out of line, so that profiles show their cost.)
-    #[inline(never)]
-    fn start(&mut self, scene: &Scene, bsdfs: &[Option<Bsdf>], u: &[VertexSamples], shade: &[u8]) {
-        let lights = scene.light_set();
-        self.len = 0;
-        for &lane in shade {
-            let i = lane as usize;
-            let Some(bsdf) = &bsdfs[i] else { continue };
-            if !bsdf.is_specular() && lights.sample(u[i].light).is_some_and(|(l, _)| l == self.index) {
-                self.lanes[self.len] = (lane, self.env.prefetch_sample_li(u[i].point, None));
-                self.len += 1;
-            }
-        }
-    }
-
-    /// The second step.
-    #[inline(never)]
-    fn finish(&self, u: &[VertexSamples]) {
-        for &(lane, token) in &self.lanes[..self.len] {
-            self.env.prefetch_sample_li(u[lane as usize].point, Some(token));
-        }
-    }
-}
-
 impl PathIntegrator {
     /// Radiance along each of at most [`PATH_LANES`] `rays`, one path
     /// sample per ray, with `samplers[i]` positioned at ray `i`'s pixel
@@ -234,7 +185,9 @@ impl PathIntegrator {
         let mut interfaces: Option<bool> = None;
         let mut live = LaneList::first(n);
         let nee = self.direct != DirectLighting::BsdfOnly;
-        let mut env_prefetch = EnvironmentPrefetch::new(scene).filter(|_| nee);
+        // Non-specular vertices whose light is an environment image take
+        // their samples in steps across lanes ([`EnvironmentLanes`]).
+        let mut environment = EnvironmentLanes::new(scene).filter(|_| nee);
         // Diffuse vertices that sample a rectangle light take the lane
         // kernel ([`RectangleLanes`]; not in scenes with media, whose light
         // samples carry transmittance). Its buffers are made on first use.
@@ -266,16 +219,16 @@ impl PathIntegrator {
             // The environment map's sampling tables are read at random:
             // ask for them now, and let the escaped lanes' work pass while
             // they arrive.
-            if let Some(prefetch) = &mut env_prefetch {
-                prefetch.start(scene, &bsdfs, &u, shade.as_slice());
+            if let Some(e) = &mut environment {
+                e.start(scene, &bsdfs, &u, shade.as_slice());
             }
             if escape.len > 0 {
                 self.escape(scene, &mut paths, escape.as_slice());
             }
             // 3. Next-event estimation.
             if nee {
-                if let Some(prefetch) = &env_prefetch {
-                    prefetch.finish(&u);
+                if let Some(e) = &mut environment {
+                    e.locate(&u);
                 }
                 if let Some(r) = &mut rectangles {
                     r.clear();
@@ -286,7 +239,7 @@ impl PathIntegrator {
                 for &lane in shade.as_slice() {
                     let i = lane as usize;
                     let (Some(si), Some(bsdf)) = (&hits[i], &bsdfs[i]) else { continue };
-                    if bsdf.is_specular() {
+                    if bsdf.is_specular() || environment.as_ref().is_some_and(|e| e.took(lane)) {
                         continue;
                     }
                     // The light pick, made once for both kernels (the scalar
@@ -327,6 +280,9 @@ impl PathIntegrator {
                 }
                 if let Some(s) = &mut spheres {
                     s.estimate(self, scene, &mut paths, &hits, &bsdfs, stats, &mut interfaces);
+                }
+                if let Some(e) = &environment {
+                    e.estimate(self, scene, &mut paths, &hits, &bsdfs, &u, stats, &mut interfaces);
                 }
             }
             // 4. Continue by sampling the BSDF.

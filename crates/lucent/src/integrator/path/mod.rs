@@ -1,3 +1,4 @@
+mod environment_lanes;
 mod lanes;
 mod light_lanes;
 mod scatter_lanes;

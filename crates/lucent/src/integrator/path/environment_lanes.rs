@@ -1,0 +1,128 @@
+//! Light samples of an environment image across lanes.
+//!
+//! Sampling an environment image (PBRT 4th ed., §12.5.2) is two searches
+//! of tabulated distributions: the row in the marginal table, then the
+//! column in that row's table, whose pixel is then read. A large map's row
+//! tables and pixels do not fit in the caches, and a sample's reads are
+//! at random, so one lane at a time each sample waited on two or three
+//! cache misses in turn. The light stage of [`super::lanes`] gathers the
+//! non-specular vertices whose light pick is the environment (in a scene
+//! without media) and takes their samples in three steps
+//! ([`Environment::sample_li_start`], [`Environment::sample_li_locate`],
+//! [`Environment::sample_li_finish`]), each over all the lanes before the
+//! next, each asking for the memory of the next: the misses of all the
+//! lanes overlap. The first step runs before the escaped lanes' lookups
+//! of the same image, so that those pass while the memory arrives.
+//!
+//! Each lane's sample is [`Environment::sample_li`]'s bit for bit (the
+//! steps are that function's parts, tested equal to it), and it is then
+//! weighed as [`PathIntegrator::sample_light`] weighs it.
+
+use super::lanes::PathState;
+use super::PathIntegrator;
+use crate::bsdf::Bsdf;
+use crate::geometry::LANES;
+use crate::integrator::RayStats;
+use crate::interaction::SurfaceInteraction;
+use crate::light::Environment;
+use crate::sampling::{RowSample, VertexSamples};
+use crate::scene::Scene;
+
+/// The lanes of one light stage whose light pick is the environment
+/// image, with their samples in progress.
+pub(super) struct EnvironmentLanes<'a> {
+    env: &'a Environment,
+    /// The environment's index among the scene's lights.
+    index: usize,
+    /// The lanes taken, with the probability of their light pick and their
+    /// samples after the first step.
+    lanes: [(u8, f32, RowSample); LANES],
+    len: usize,
+    /// Bit `i` is set when lane `i` was taken.
+    taken: u64,
+}
+
+impl<'a> EnvironmentLanes<'a> {
+    /// For a scene whose environment is an image; `None` in scenes without
+    /// one, or with media (whose light samples carry transmittance).
+    pub(super) fn new(scene: &'a Scene) -> Option<Self> {
+        let (index, env) = scene.environment_light()?;
+        (env.is_image() && !scene.has_media()).then_some(Self {
+            env,
+            index,
+            lanes: [(0, 0.0, RowSample::default()); LANES],
+            len: 0,
+            taken: 0,
+        })
+    }
+
+    /// The first step, for the lanes of `shade` whose vertex is not
+    /// specular and whose light pick is the environment: they are taken.
+    /// (Each step runs out of line, so that profiles show its cost.)
+    #[inline(never)]
+    pub(super) fn start(&mut self, scene: &Scene, bsdfs: &[Option<Bsdf>], u: &[VertexSamples], shade: &[u8]) {
+        let lights = scene.light_set();
+        self.len = 0;
+        self.taken = 0;
+        for &lane in shade {
+            let i = lane as usize;
+            let Some(bsdf) = &bsdfs[i] else { continue };
+            if bsdf.is_specular() {
+                continue;
+            }
+            let Some((light, pmf)) = lights.sample(u[i].light) else { continue };
+            if light != self.index {
+                continue;
+            }
+            let Some(s) = self.env.sample_li_start(u[i].point) else { continue };
+            self.lanes[self.len] = (lane, pmf, s);
+            self.len += 1;
+            self.taken |= 1 << i;
+        }
+    }
+
+    /// The second step.
+    #[inline(never)]
+    pub(super) fn locate(&mut self, u: &[VertexSamples]) {
+        for (lane, _, s) in &mut self.lanes[..self.len] {
+            self.env.sample_li_locate(s, u[*lane as usize].point);
+        }
+    }
+
+    /// Whether the first step took `lane`: its light sample is this
+    /// kernel's.
+    #[inline]
+    pub(super) fn took(&self, lane: u8) -> bool {
+        self.taken & (1 << lane) != 0
+    }
+
+    /// The last step: each lane's light sample, weighed and, where it
+    /// carries light, tested with a shadow ray; what it finds is added to
+    /// the lane's path.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    pub(super) fn estimate(
+        &self,
+        integrator: &PathIntegrator,
+        scene: &Scene,
+        paths: &mut [PathState],
+        hits: &[Option<SurfaceInteraction>],
+        bsdfs: &[Option<Bsdf>],
+        u: &[VertexSamples],
+        stats: &mut RayStats,
+        interfaces: &mut Option<bool>,
+    ) {
+        for &(lane, pmf, ref s) in &self.lanes[..self.len] {
+            let i = lane as usize;
+            let (Some(si), Some(bsdf)) = (&hits[i], &bsdfs[i]) else { unreachable!("a lane taken has a vertex") };
+            let Some(ls) = self.env.sample_li_finish(s, u[i].point) else { continue };
+            let path = &mut paths[i];
+            let wo = -path.ray.dir;
+            let direct =
+                path.beta * integrator.weigh_light_sample(scene, si, bsdf, wo, false, pmf, ls, stats, interfaces);
+            // As for the scalar light sample: indirect if an earlier vertex
+            // was non-specular.
+            path.radiance += integrator.contribution(direct, path.any_non_specular);
+        }
+    }
+}
