@@ -5,6 +5,7 @@
 //! Vector math comes from [`glam`]; this module adds what a renderer needs on
 //! top of it.
 
+mod angle;
 mod bounds;
 mod float;
 mod frame;
@@ -12,6 +13,7 @@ mod lanes;
 mod ray;
 mod transform;
 
+pub use angle::atan2;
 pub use bounds::Bounds3;
 pub use float::{gamma, offset_ray_origin, MACHINE_EPSILON};
 pub use frame::{coordinate_system, gram_schmidt, Frame};

@@ -59,8 +59,12 @@
 
 use super::emitter::{LiSample, LightSampleContext};
 use super::equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere, wrap_octahedral_pixel};
+use super::equirect::{
+    equirect_direction, equirect_direction_sin, equirect_solid_angle_pdf, equirect_uv, equirect_uv_lanes,
+    equirect_uv_sin,
+};
 use crate::color::{luminance, Color};
-use crate::geometry::{Transform, Vec2, Vec3};
+use crate::geometry::{Transform, Vec2, Vec3, Vec3Lanes, LANES};
 use crate::memory::prefetch;
 use crate::sampling::{uniform_sphere, PiecewiseConstant2D, RowSample};
 use crate::texels::{check_image_size, ImageSizeError, TexelGrid};
@@ -260,35 +264,6 @@ impl std::fmt::Debug for EnvironmentMap {
 /// The name of an image made in memory, in messages.
 const MEMORY: &str = "<memory>";
 
-/// The unit direction (in the environment's own frame) at `(u, v)` of the
-/// equirectangular mapping described in the module docs.
-pub fn equirect_direction(uv: Vec2) -> Vec3 {
-    equirect_direction_sin(uv).0
-}
-
-/// [`equirect_direction`] and `sin θ = sin(π v)`, which the direction's
-/// solid-angle density needs too ([`equirect_solid_angle_pdf`]).
-#[inline]
-fn equirect_direction_sin(uv: Vec2) -> (Vec3, f32) {
-    let theta = PI * uv.y;
-    let phi = 2.0 * PI * (uv.x - 0.5);
-    let (sin_t, cos_t) = theta.sin_cos();
-    let (sin_p, cos_p) = phi.sin_cos();
-    (Vec3::new(sin_t * sin_p, cos_t, -sin_t * cos_p), sin_t)
-}
-
-/// The solid-angle density of a lat-long direction at polar angle `θ`
-/// (given as `sin θ`) whose square density is `pdf_uv`: the map takes
-/// `[0, 1]²` onto the sphere with `dω = 2π² sin θ du dv` (PBRT 4th ed.,
-/// §12.5.2). 0 at the poles, where the mapping degenerates.
-#[inline]
-fn equirect_solid_angle_pdf(sin_theta: f32, pdf_uv: f32) -> f32 {
-    if sin_theta.is_nan() || sin_theta <= 0.0 {
-        return 0.0;
-    }
-    pdf_uv / (2.0 * PI * PI * sin_theta)
-}
-
 /// `pdf`, or 0 where it is infinite or NaN.
 #[inline]
 fn finite_or_zero(pdf: f32) -> f32 {
@@ -297,15 +272,6 @@ fn finite_or_zero(pdf: f32) -> f32 {
     } else {
         0.0
     }
-}
-
-/// The `(u, v)` in `[0, 1]²` of unit direction `d` (in the environment's
-/// own frame), the inverse of [`equirect_direction`].
-pub fn equirect_uv(d: Vec3) -> Vec2 {
-    // atan2 rather than acos(y): well conditioned near the poles too.
-    let theta = (d.x * d.x + d.z * d.z).sqrt().atan2(d.y);
-    let phi = d.x.atan2(-d.z);
-    Vec2::new((0.5 + phi / (2.0 * PI)).clamp(0.0, 1.0), (theta / PI).clamp(0.0, 1.0))
 }
 
 /// The orthogonal matrix of a transform that rotates (perhaps with a mirror)
@@ -601,6 +567,18 @@ impl EnvironmentMap {
         }
     }
 
+    /// The `uv` of world direction `dir` (any length), with what
+    /// [`EnvironmentMap::solid_angle_pdf`] needs of it: `sin θ` of a
+    /// lat-long map (1 for an equal-area one, which does not use it).
+    #[inline]
+    fn uv_sin_of(&self, dir: Vec3) -> (Vec2, f32) {
+        let d = self.to_local(dir);
+        match self.mapping {
+            EnvironmentMapping::Equirectangular => equirect_uv_sin(d),
+            EnvironmentMapping::EqualArea => (equal_area_sphere_to_square(d.normalize_or_zero()), 1.0),
+        }
+    }
+
     /// `Σ_i lum(L_i) Ω_i` over the pixels, `Ω_i` the solid angle of pixel
     /// `i`: `(2π / w)(cos θ₀ − cos θ₁)` for a lat-long row, `4π / (w h)` for
     /// an equal-area map.
@@ -633,12 +611,13 @@ impl EnvironmentMap {
         (std::f64::consts::PI * (r as f64) * (r as f64) * self.fluence()) as f32
     }
 
-    /// The solid-angle density of a direction at `uv` whose square density
-    /// is `pdf_uv`; 0 where the mapping degenerates.
+    /// The solid-angle density of a direction whose square density is
+    /// `pdf_uv`, given the `sin θ` of [`EnvironmentMap::uv_sin_of`]; 0
+    /// where the mapping degenerates.
     #[inline]
-    fn solid_angle_pdf(&self, uv: Vec2, pdf_uv: f32) -> f32 {
+    fn solid_angle_pdf(&self, sin_theta: f32, pdf_uv: f32) -> f32 {
         finite_or_zero(match self.mapping {
-            EnvironmentMapping::Equirectangular => equirect_solid_angle_pdf((PI * uv.y).sin(), pdf_uv),
+            EnvironmentMapping::Equirectangular => equirect_solid_angle_pdf(sin_theta, pdf_uv),
             EnvironmentMapping::EqualArea => pdf_uv / (4.0 * PI),
         })
     }
@@ -683,36 +662,51 @@ impl EnvironmentMap {
     }
 
     fn pdf_li(&self, wi: Vec3) -> f32 {
-        let uv = self.uv_of(wi);
-        self.solid_angle_pdf(uv, self.distribution.pdf(uv))
+        let (uv, sin_theta) = self.uv_sin_of(wi);
+        self.solid_angle_pdf(sin_theta, self.distribution.pdf(uv))
     }
 
     /// [`EnvironmentMap::le`] and [`EnvironmentMap::pdf_li`] of one
     /// direction, with its `uv` (two `atan2`s) found once.
     fn le_pdf(&self, dir: Vec3) -> (Color, f32) {
-        let uv = self.uv_of(dir);
-        (self.lookup(uv), self.solid_angle_pdf(uv, self.distribution.pdf(uv)))
+        let (uv, sin_theta) = self.uv_sin_of(dir);
+        (self.lookup(uv), self.solid_angle_pdf(sin_theta, self.distribution.pdf(uv)))
     }
 
     /// [`EnvironmentMap::le_pdf`] of every direction of `dirs`, into
-    /// `out`. The directions are first mapped to their pixel and cell, and
+    /// `out`. The directions are first mapped to their pixel and cell (a
+    /// lat-long map's across vector lanes: [`equirect_uv_lanes`]), and
     /// only then are the pixels and densities read, in a loop of loads that
     /// do not wait on each other: a direction's pixel is anywhere in the
     /// image, so each read is likely a cache miss, and this way the misses
     /// of many directions overlap instead of following one another.
     fn le_pdf_many(&self, dirs: &[Vec3], out: &mut [(Color, f32)]) {
-        const CHUNK: usize = 64;
-        for (dirs, out) in dirs.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
-            let mut at = [(Vec2::ZERO, (0u32, 0u32), 0usize); CHUNK];
-            for (at, &dir) in at.iter_mut().zip(dirs) {
-                let uv = self.uv_of(dir);
-                *at = (uv, self.pixel_at(uv), self.distribution.cell(uv));
+        for (dirs, out) in dirs.chunks(LANES).zip(out.chunks_mut(LANES)) {
+            let mut uv = [(Vec2::ZERO, 0.0); LANES];
+            if self.mapping == EnvironmentMapping::Equirectangular {
+                let mut d = Vec3Lanes::ZERO;
+                for (k, &dir) in dirs.iter().enumerate() {
+                    d.set(k, self.to_local(dir));
+                }
+                let (mut u, mut v, mut sin_theta) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
+                equirect_uv_lanes(&d, &mut u, &mut v, &mut sin_theta);
+                for (k, uv) in uv[..dirs.len()].iter_mut().enumerate() {
+                    *uv = (Vec2::new(u[k], v[k]), sin_theta[k]);
+                }
+            } else {
+                for (uv, &dir) in uv.iter_mut().zip(dirs) {
+                    *uv = self.uv_sin_of(dir);
+                }
             }
-            for (out, &(_, (x, y), cell)) in out.iter_mut().zip(&at) {
+            let mut at = [((0u32, 0u32), 0usize); LANES];
+            for (at, &(uv, _)) in at.iter_mut().zip(&uv[..dirs.len()]) {
+                *at = (self.pixel_at(uv), self.distribution.cell(uv));
+            }
+            for (out, &((x, y), cell)) in out.iter_mut().zip(&at) {
                 *out = (self.pixel(x, y), self.distribution.cell_pdf(cell));
             }
-            for (out, &(uv, _, _)) in out.iter_mut().zip(&at) {
-                out.1 = self.solid_angle_pdf(uv, out.1);
+            for (out, &(_, sin_theta)) in out.iter_mut().zip(&uv) {
+                out.1 = self.solid_angle_pdf(sin_theta, out.1);
             }
         }
     }

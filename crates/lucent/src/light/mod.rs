@@ -21,6 +21,7 @@ mod emitter;
 pub(crate) use emitter::scene_radius;
 mod environment;
 pub mod equal_area;
+mod equirect;
 mod pbrt;
 mod rectangles;
 mod set;
@@ -29,10 +30,10 @@ pub use area::{AreaLight, EmissionImage};
 pub use emission::LeSample;
 pub use emitter::{Emitter, LiSample, LightSampleContext};
 pub use environment::{
-    equirect_direction, equirect_uv, read_environment_image, Environment, EnvironmentError, EnvironmentMap,
-    EnvironmentMapping, MapOptions,
+    read_environment_image, Environment, EnvironmentError, EnvironmentMap, EnvironmentMapping, MapOptions,
 };
 pub use equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere};
+pub use equirect::{equirect_direction, equirect_uv};
 pub use pbrt::{DistantLightParams, PointLightParams, SpotLightParams};
 pub(crate) use rectangles::merge_rectangles;
 pub use set::LightSet;
