@@ -18,12 +18,11 @@
 //! steps are that function's parts, tested equal to it), and it is then
 //! weighed as [`PathIntegrator::sample_light`] weighs it.
 
-use super::lanes::PathState;
+use super::lanes::LightStage;
+#[cfg(doc)]
 use super::PathIntegrator;
 use crate::bsdf::Bsdf;
 use crate::geometry::LANES;
-use crate::integrator::RayStats;
-use crate::interaction::SurfaceInteraction;
 use crate::light::Environment;
 use crate::sampling::{RowSample, VertexSamples};
 use crate::scene::Scene;
@@ -99,30 +98,12 @@ impl<'a> EnvironmentLanes<'a> {
     /// The last step: each lane's light sample, weighed and, where it
     /// carries light, tested with a shadow ray; what it finds is added to
     /// the lane's path.
-    #[allow(clippy::too_many_arguments)]
     #[inline(never)]
-    pub(super) fn estimate(
-        &self,
-        integrator: &PathIntegrator,
-        scene: &Scene,
-        paths: &mut [PathState],
-        hits: &[Option<SurfaceInteraction>],
-        bsdfs: &[Option<Bsdf>],
-        u: &[VertexSamples],
-        stats: &mut RayStats,
-        interfaces: &mut Option<bool>,
-    ) {
+    pub(super) fn estimate(&self, stage: &mut LightStage) {
         for &(lane, pmf, ref s) in &self.lanes[..self.len] {
             let i = lane as usize;
-            let (Some(si), Some(bsdf)) = (&hits[i], &bsdfs[i]) else { unreachable!("a lane taken has a vertex") };
-            let Some(ls) = self.env.sample_li_finish(s, u[i].point) else { continue };
-            let path = &mut paths[i];
-            let wo = -path.ray.dir;
-            let direct =
-                path.beta * integrator.weigh_light_sample(scene, si, bsdf, wo, false, pmf, ls, stats, interfaces);
-            // As for the scalar light sample: indirect if an earlier vertex
-            // was non-specular.
-            path.radiance += integrator.contribution(direct, path.any_non_specular);
+            let Some(ls) = self.env.sample_li_finish(s, stage.u[i].point) else { continue };
+            stage.add_light_sample(i, pmf, ls);
         }
     }
 }

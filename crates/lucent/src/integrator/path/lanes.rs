@@ -51,7 +51,7 @@ use crate::color::Color;
 use crate::geometry::{Ray, Vec3};
 use crate::integrator::RayStats;
 use crate::interaction::SurfaceInteraction;
-use crate::light::{Emitter, LightSampleContext};
+use crate::light::{Emitter, LiSample, LightSampleContext};
 use crate::medium::MediumId;
 use crate::sampling::{Sampler, VertexSamples};
 use crate::scene::Scene;
@@ -154,6 +154,41 @@ impl LaneList {
     #[inline]
     pub(super) fn as_slice(&self) -> &[u8] {
         &self.lanes[..self.len]
+    }
+}
+
+/// What the light stage's kernels ([`RectangleLanes`], [`SphereLanes`],
+/// [`EnvironmentLanes`]) share when they estimate the light of the lanes
+/// they took: the integrator and the scene, every lane's path, vertex and
+/// samples, and the batch's counters.
+pub(super) struct LightStage<'s> {
+    pub(super) integrator: &'s PathIntegrator,
+    pub(super) scene: &'s Scene,
+    pub(super) paths: &'s mut [PathState],
+    pub(super) hits: &'s [Option<SurfaceInteraction>],
+    pub(super) bsdfs: &'s [Option<Bsdf>],
+    pub(super) u: &'s [VertexSamples],
+    pub(super) stats: &'s mut RayStats,
+    /// Whether the scene has interfaces (found on the first shadow ray).
+    pub(super) interfaces: &'s mut Option<bool>,
+}
+
+impl LightStage<'_> {
+    /// Add the light sample `ls` of lane `lane`, whose light (not a delta
+    /// light) was picked with probability `pmf`: weighed as
+    /// [`PathIntegrator::sample_light`] weighs it, tested with a shadow ray
+    /// where it carries light, and added to the lane's path (indirect if an
+    /// earlier vertex was non-specular, as for the scalar light sample).
+    #[inline(always)]
+    pub(super) fn add_light_sample(&mut self, lane: usize, pmf: f32, ls: LiSample) {
+        let (Some(si), Some(bsdf)) = (&self.hits[lane], &self.bsdfs[lane]) else {
+            unreachable!("a lane taken has a vertex")
+        };
+        let path = &mut self.paths[lane];
+        let wo = -path.ray.dir;
+        let direct = path.beta
+            * self.integrator.weigh_light_sample(self.scene, si, bsdf, wo, false, pmf, ls, self.stats, self.interfaces);
+        path.radiance += self.integrator.contribution(direct, path.any_non_specular);
     }
 }
 
@@ -275,14 +310,24 @@ impl PathIntegrator {
                     // earlier one was non-specular.
                     path.radiance += self.contribution(direct, path.any_non_specular);
                 }
+                let mut stage = LightStage {
+                    integrator: self,
+                    scene,
+                    paths: &mut paths,
+                    hits: &hits,
+                    bsdfs: &bsdfs,
+                    u: &u,
+                    stats,
+                    interfaces: &mut interfaces,
+                };
                 if let Some(r) = &mut rectangles {
-                    r.estimate(self, scene, &mut paths, &hits, &bsdfs, &u, stats, &mut interfaces);
+                    r.estimate(&mut stage);
                 }
                 if let Some(s) = &mut spheres {
-                    s.estimate(self, scene, &mut paths, &hits, &bsdfs, stats, &mut interfaces);
+                    s.estimate(&mut stage);
                 }
                 if let Some(e) = &environment {
-                    e.estimate(self, scene, &mut paths, &hits, &bsdfs, &u, stats, &mut interfaces);
+                    e.estimate(&mut stage);
                 }
             }
             // 4. Continue by sampling the BSDF.

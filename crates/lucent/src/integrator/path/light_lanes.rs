@@ -17,18 +17,16 @@
 //! each lane's light sample is the scalar one bit for bit (a test compares
 //! them on random lanes; renders are byte-identical).
 
-use super::lanes::PathState;
-use super::{occluded, power_heuristic, DirectLighting, PathIntegrator};
+use super::lanes::LightStage;
+use super::{occluded, power_heuristic, DirectLighting};
 use crate::accel::isa;
 #[cfg(target_arch = "x86_64")]
 use crate::accel::Isa;
-use crate::bsdf::{Bsdf, Bxdf};
+use crate::bsdf::Bxdf;
 use crate::color::Color;
 use crate::geometry::{group, set_group, Vec3Lanes, GROUP, LANES};
-use crate::integrator::RayStats;
 use crate::interaction::SurfaceInteraction;
 use crate::light::{AreaLight, Emitter};
-use crate::sampling::VertexSamples;
 use crate::scene::Scene;
 use crate::shapes::Rectangle;
 use std::f32::consts::FRAC_1_PI;
@@ -107,18 +105,8 @@ impl<'a> RectangleLanes<'a> {
     /// Next-event estimation for the lanes taken: each lane's light
     /// sample, weighed and, where it carries light, tested with a shadow
     /// ray; what it finds is added to the lane's path.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn estimate(
-        &mut self,
-        integrator: &PathIntegrator,
-        scene: &Scene,
-        paths: &mut [PathState],
-        hits: &[Option<SurfaceInteraction>],
-        bsdfs: &[Option<Bsdf>],
-        u: &[VertexSamples],
-        stats: &mut RayStats,
-        interfaces: &mut Option<bool>,
-    ) {
+    pub(super) fn estimate(&mut self, stage: &mut LightStage) {
+        let LightStage { integrator, scene, ref mut paths, hits, bsdfs, u, ref mut stats, ref mut interfaces } = *stage;
         let Some((_, pmf, area, rect)) = self.light else { return };
         let n = self.near_len + self.far_len;
         // Gather the lanes, near ones first.

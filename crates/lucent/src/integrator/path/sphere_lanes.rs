@@ -16,14 +16,13 @@
 //! lane's sample is the scalar one bit for bit (a test compares them;
 //! renders are byte-identical).
 
-use super::lanes::PathState;
+use super::lanes::LightStage;
+#[cfg(doc)]
 use super::PathIntegrator;
 use crate::accel::isa;
 #[cfg(target_arch = "x86_64")]
 use crate::accel::Isa;
-use crate::bsdf::Bsdf;
 use crate::geometry::{Vec3Lanes, LANES};
-use crate::integrator::RayStats;
 use crate::interaction::SurfaceInteraction;
 use crate::light::{AreaLight, Emitter, LightSampleContext};
 use crate::scene::Scene;
@@ -105,17 +104,7 @@ impl<'a> SphereLanes<'a> {
     /// together, then each lane's sample weighed and, where it carries
     /// light, tested with a shadow ray; what it finds is added to the
     /// lane's path.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn estimate(
-        &mut self,
-        integrator: &PathIntegrator,
-        scene: &Scene,
-        paths: &mut [PathState],
-        hits: &[Option<SurfaceInteraction>],
-        bsdfs: &[Option<Bsdf>],
-        stats: &mut RayStats,
-        interfaces: &mut Option<bool>,
-    ) {
+    pub(super) fn estimate(&mut self, stage: &mut LightStage) {
         let n = self.len;
         if n == 0 {
             return;
@@ -123,19 +112,13 @@ impl<'a> SphereLanes<'a> {
         sample_cones_any(self, n);
         for k in 0..n {
             let i = self.lanes[k] as usize;
-            let (Some(si), Some(bsdf), Some((area, pmf))) = (&hits[i], &bsdfs[i], self.lights[k]) else {
+            let (Some(si), Some((area, pmf))) = (&stage.hits[i], self.lights[k]) else {
                 unreachable!("a lane taken has a vertex and a light")
             };
             let s = ShapeSample { p: self.p_light.get(k), n: self.n_light.get(k), pdf: self.pdf[k] };
             let ctx = LightSampleContext { p: si.p, n: si.n };
             let Some(ls) = area.sample_li_from(&ctx, s) else { continue };
-            let path = &mut paths[i];
-            let wo = -path.ray.dir;
-            let direct =
-                path.beta * integrator.weigh_light_sample(scene, si, bsdf, wo, false, pmf, ls, stats, interfaces);
-            // As for the scalar light sample: indirect if an earlier vertex
-            // was non-specular.
-            path.radiance += integrator.contribution(direct, path.any_non_specular);
+            stage.add_light_sample(i, pmf, ls);
         }
     }
 }
