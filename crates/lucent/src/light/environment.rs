@@ -559,12 +559,7 @@ impl EnvironmentMap {
     /// The `uv` of world direction `dir` (any length).
     #[inline]
     fn uv_of(&self, dir: Vec3) -> Vec2 {
-        let d = self.to_local(dir);
-        match self.mapping {
-            // atan2 of the components: any length will do.
-            EnvironmentMapping::Equirectangular => equirect_uv(d),
-            EnvironmentMapping::EqualArea => equal_area_sphere_to_square(d.normalize_or_zero()),
-        }
+        self.uv_sin_of(dir).0
     }
 
     /// The `uv` of world direction `dir` (any length), with what
