@@ -11,6 +11,7 @@
 //!   Rendering", Computer Graphics Forum 13(3), 1994).
 
 use crate::color::Color;
+use crate::geometry::hypot;
 
 /// Unpolarised Fresnel reflectance of a dielectric interface.
 ///
@@ -117,21 +118,13 @@ impl<const N: usize> Complex<N> {
     fn norm(self) -> [f32; N] {
         std::array::from_fn(|j| self.re[j] * self.re[j] + self.im[j] * self.im[j])
     }
-    /// Principal square roots: `√((|z|+re)/2) + i·sign(im)·√((|z|−re)/2)`.
-    /// `|z|` is the library's `hypot`, lane by lane, for lanes `0..used`;
-    /// the lanes from `used` on copy lane 0's (they hold its number).
-    fn sqrt(self, used: usize) -> Self {
-        let mut m = [0.0; N];
-        for (m, (re, im)) in m.iter_mut().zip(self.re.iter().zip(&self.im)).take(used) {
-            *m = re.hypot(*im);
-        }
-        let first = m[0];
-        for m in m.iter_mut().skip(used) {
-            *m = first;
-        }
+    /// Principal square roots: `√((|z|+re)/2) + i·sign(im)·√((|z|−re)/2)`,
+    /// with `|z|` the library's [`hypot`].
+    fn sqrt(self) -> Self {
         Self::lanes(|j| {
-            let re = (0.5 * (m[j] + self.re[j])).max(0.0).sqrt();
-            let im = (0.5 * (m[j] - self.re[j])).max(0.0).sqrt();
+            let m = hypot(self.re[j], self.im[j]);
+            let re = (0.5 * (m + self.re[j])).max(0.0).sqrt();
+            let im = (0.5 * (m - self.re[j])).max(0.0).sqrt();
             (re, if self.im[j] < 0.0 { -im } else { im })
         })
     }
@@ -146,27 +139,29 @@ impl<const N: usize> Complex<N> {
 /// the mean of `|r∥|²` and `|r⊥|²` (PBRT 4th ed., §9.3.6, eq. 9.4–9.6 over
 /// the complex numbers). For `k = 0` this is [`fr_dielectric`].
 pub fn fr_complex(cos_theta_i: f32, eta: f32, k: f32) -> f32 {
-    fr_complex_lanes::<1>(cos_theta_i, [eta], [k], 1)[0]
+    fr_complex_lanes([cos_theta_i], [eta], [k])[0]
 }
 
 /// [`fr_complex`] per RGB channel: the three channels in the lanes of one
 /// computation (the fourth repeats the first), so that its divisions and
 /// square roots run side by side.
 pub fn fr_conductor(cos_theta_i: f32, eta: Color, k: Color) -> Color {
-    let r = fr_complex_lanes::<4>(cos_theta_i, [eta.x, eta.y, eta.z, eta.x], [k.x, k.y, k.z, k.x], 3);
+    let r = fr_complex_lanes([cos_theta_i; 4], [eta.x, eta.y, eta.z, eta.x], [k.x, k.y, k.z, k.x]);
     Color::new(r[0], r[1], r[2])
 }
 
-/// [`fr_complex`] of each lane's index `eta[j] + i·k[j]`, the lanes from
-/// `used` on holding lane 0's (see [`Complex::sqrt`]).
+/// [`fr_complex`] of each lane: `cos_theta_i[j]` and the index `eta[j] +
+/// i·k[j]`. Every lane runs the operations of one [`fr_complex`], so its
+/// value is that lane's [`fr_complex`] bit for bit (the path integrator's
+/// conductor lanes take one channel of many vertices at once through it).
 #[inline(always)]
-fn fr_complex_lanes<const N: usize>(cos_theta_i: f32, eta: [f32; N], k: [f32; N], used: usize) -> [f32; N] {
-    let cos_i = cos_theta_i.clamp(0.0, 1.0);
+pub(crate) fn fr_complex_lanes<const N: usize>(cos_theta_i: [f32; N], eta: [f32; N], k: [f32; N]) -> [f32; N] {
+    let cos_i = cos_theta_i.map(|c| c.clamp(0.0, 1.0));
     let eta = Complex::new(eta, k);
-    let sin2_i = Complex::real(1.0 - cos_i * cos_i);
+    let sin2_i = Complex::new(cos_i.map(|c| 1.0 - c * c), [0.0; N]);
     let sin2_t = sin2_i.div(eta.mul(eta));
-    let cos_t = Complex::real(1.0).sub(sin2_t).sqrt(used);
-    let ci = Complex::real(cos_i);
+    let cos_t = Complex::real(1.0).sub(sin2_t).sqrt();
+    let ci = Complex::new(cos_i, [0.0; N]);
     let r_parl = eta.mul(ci).sub(cos_t).div(eta.mul(ci).add(cos_t));
     let r_perp = ci.sub(eta.mul(cos_t)).div(ci.add(eta.mul(cos_t)));
     let (parl, perp) = (r_parl.norm(), r_perp.norm());
@@ -285,7 +280,7 @@ mod tests {
             ((a.0 * b.0 + a.1 * b.1) / d, (a.1 * b.0 - a.0 * b.1) / d)
         };
         let sqrt = |a: C| {
-            let m = a.0.hypot(a.1);
+            let m = crate::geometry::hypot(a.0, a.1);
             let (re, im) = ((0.5 * (m + a.0)).max(0.0).sqrt(), (0.5 * (m - a.0)).max(0.0).sqrt());
             (re, if a.1 < 0.0 { -im } else { im })
         };

@@ -15,7 +15,7 @@ mod transform;
 
 pub use angle::atan2;
 pub use bounds::Bounds3;
-pub use float::{gamma, offset_ray_origin, MACHINE_EPSILON};
+pub use float::{gamma, hypot, offset_ray_origin, MACHINE_EPSILON};
 pub use frame::{coordinate_system, gram_schmidt, Frame};
 pub use lanes::{group, set_group, Vec3Lanes, GROUP, LANES};
 pub use ray::Ray;

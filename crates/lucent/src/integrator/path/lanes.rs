@@ -21,17 +21,18 @@
 //!    [`super::sphere_lanes`]);
 //! 4. **scatter**: the BSDF sample that continues the path, and Russian
 //!    roulette (diffuse vertices all at once, in vector code:
-//!    [`super::scatter_lanes`]).
+//!    [`super::scatter_lanes`]; rough conductors likewise:
+//!    [`super::conductor_lanes`]).
 //!
 //! This is the structure of vectorised production path tracers (Lee et
 //! al., "Vectorized Production Path Tracing", HPG 2017: queue, then shade
 //! in SIMD; Mitsuba 3 runs its whole loop on wide lanes), in the form that
 //! lets each stage run across lanes: the sample stage does, so do the
 //! light stage for diffuse vertices and rectangle lights, the sampling of
-//! sphere lights and the scatter stage for diffuse vertices, and each stage
-//! is a loop over an index list that a vector kernel can take over (for
-//! the lanes it knows; the others keep the scalar code, in the same
-//! loop).
+//! sphere lights and the scatter stage for diffuse and rough conductor
+//! vertices, and each stage is a loop over an index list that a vector
+//! kernel can take over (for the lanes it knows; the others keep the
+//! scalar code, in the same loop).
 //!
 //! Lanes never interact: a lane's result depends only on its own ray and
 //! sampler, whatever the other lanes of its batch, in which order they
@@ -39,6 +40,7 @@
 //! batches (and the number of threads), and equal to tracing each path
 //! alone ([`crate::integrator::Integrator::li`] is a batch of one).
 
+use super::conductor_lanes::ConductorLanes;
 use super::environment_lanes::EnvironmentLanes;
 use super::light_lanes::RectangleLanes;
 use super::scatter_lanes::DiffuseLanes;
@@ -232,8 +234,10 @@ impl PathIntegrator {
         // the lane kernel ([`SphereLanes`]; likewise not with media).
         let sphere_kernel = !scene.has_media() && scene.light_set().has_spheres();
         let mut spheres: Option<SphereLanes> = None;
-        // Diffuse vertices scatter in the lane kernel ([`DiffuseLanes`]).
+        // Diffuse vertices scatter in the lane kernel ([`DiffuseLanes`]),
+        // rough conductors in theirs ([`ConductorLanes`]).
         let mut diffuse: Option<DiffuseLanes> = None;
+        let mut conductors: Option<ConductorLanes> = None;
         while live.len > 0 {
             // 1. Ray queries and what they find.
             let mut next = LaneList::empty();
@@ -334,20 +338,34 @@ impl PathIntegrator {
             if let Some(d) = &mut diffuse {
                 d.clear();
             }
+            if let Some(c) = &mut conductors {
+                c.clear();
+            }
             for &lane in shade.as_slice() {
                 let i = lane as usize;
                 let (Some(si), Some(bsdf)) = (&hits[i], &bsdfs[i]) else { continue };
-                // (The kernel's buffers are made on the first diffuse lane.)
-                if let Bxdf::Diffuse(lobe) = bsdf.bxdf() {
-                    diffuse.get_or_insert_with(DiffuseLanes::new).take(lane, &paths[i], si, bsdf.frame(), lobe, &u[i]);
-                    continue;
-                }
-                if self.scatter(&mut paths[i], si, bsdf, &u[i], stats) {
-                    next.push(i);
+                // (A kernel's buffers are made on its first lane.)
+                match bsdf.bxdf() {
+                    Bxdf::Diffuse(lobe) => {
+                        let kernel = diffuse.get_or_insert_with(DiffuseLanes::new);
+                        kernel.take(lane, &paths[i], si, bsdf.frame(), lobe, &u[i]);
+                    }
+                    Bxdf::Conductor(lobe) if ConductorLanes::takes(lobe) => {
+                        let kernel = conductors.get_or_insert_with(ConductorLanes::new);
+                        kernel.take(lane, &paths[i], si, bsdf.frame(), lobe, &u[i]);
+                    }
+                    _ => {
+                        if self.scatter(&mut paths[i], si, bsdf, &u[i], stats) {
+                            next.push(i);
+                        }
+                    }
                 }
             }
             if let Some(d) = &mut diffuse {
                 d.scatter(&mut paths, &hits, stats, &mut next);
+            }
+            if let Some(c) = &mut conductors {
+                c.scatter(&mut paths, &hits, stats, &mut next);
             }
             live = next;
         }

@@ -1,3 +1,4 @@
+mod conductor_lanes;
 mod environment_lanes;
 mod lanes;
 mod light_lanes;

@@ -19,6 +19,10 @@
 //!    §6.8.6);
 //! 4. Russian roulette.
 //!
+//! Steps 2 to 4 are the same for every lobe: [`continue_group`] runs them
+//! for this kernel and for the rough conductors' ([`super::conductor_lanes`]),
+//! and [`ScatterSet`] holds the lanes, inputs and outputs the two share.
+//!
 //! Each step is a loop over the lanes in scalar arithmetic, written
 //! without branches so that the compiler turns it into vector
 //! instructions; only the cosine and sine of the disk's angle are called
@@ -43,42 +47,36 @@ use crate::light::LightSampleContext;
 use crate::sampling::VertexSamples;
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_4};
 
-/// The diffuse lanes of one scatter stage.
-pub(super) struct DiffuseLanes {
+/// The lanes taken by one of the scatter stage's kernels, what the kernel
+/// needs of each lane's vertex, and what it finds: the part that the
+/// diffuse and the conductor kernels share.
+pub(super) struct ScatterSet {
     /// The lanes taken, in the order they were taken.
     lanes: [u8; LANES],
-    len: usize,
+    pub(super) len: usize,
     /// The kernel's inputs and outputs, kept from one stage to the next so
     /// that they are not cleared each time.
-    input: Inputs,
-    out: Outputs,
+    pub(super) input: Inputs,
+    pub(super) out: Outputs,
 }
 
-impl DiffuseLanes {
+impl ScatterSet {
     /// No lanes.
-    pub(super) fn new() -> Self {
-        Self { lanes: [0; LANES], len: 0, input: Inputs::ZERO, out: Outputs::ZERO }
-    }
+    pub(super) const EMPTY: Self = Self { lanes: [0; LANES], len: 0, input: Inputs::ZERO, out: Outputs::ZERO };
 
-    /// No lanes again, for the next stage.
-    pub(super) fn clear(&mut self) {
-        self.len = 0;
-    }
-
-    /// Take `lane` (its path `path` at `si`, with the diffuse lobe
-    /// `diffuse` in the shading frame `frame`, and the vertex's samples
-    /// `u`), writing what the kernel needs of it into the kernel's inputs
-    /// while it is at hand.
-    #[inline]
+    /// Take `lane` (its path `path` at `si`, in the shading frame `frame`,
+    /// with the vertex's samples `u`) as kernel lane `self.len`, writing
+    /// what every kernel needs of it into the inputs; returns that kernel
+    /// lane, for the lobe's own inputs.
+    #[inline(always)]
     pub(super) fn take(
         &mut self,
         lane: u8,
         path: &PathState,
         si: &SurfaceInteraction,
         frame: &Frame,
-        diffuse: &DiffuseBxdf,
         u: &VertexSamples,
-    ) {
+    ) -> usize {
         let (k, input) = (self.len, &mut self.input);
         self.lanes[k] = lane;
         self.len += 1;
@@ -86,7 +84,6 @@ impl DiffuseLanes {
         input.fy.set(k, frame.y);
         input.fz.set(k, frame.z);
         input.wo.set(k, -path.ray.dir);
-        input.r.set(k, diffuse.r);
         input.beta.set(k, path.beta);
         input.p.set(k, si.p);
         input.p_error.set(k, si.p_error);
@@ -95,22 +92,21 @@ impl DiffuseLanes {
         input.u_rr[k] = u.rr;
         input.eta_scale[k] = path.eta_scale;
         input.roulette[k] = path.depth + 1 >= RR_DEPTH;
+        k
     }
 
-    /// The scatter stage of the lanes taken: each lane's path gets its new
-    /// throughput and ray, as the scalar `PathIntegrator::scatter` gives
-    /// them, and the lanes whose paths go on are pushed to `next`.
-    pub(super) fn scatter(
-        &mut self,
+    /// After the kernel ran: each lane's path gets its new throughput and
+    /// ray, as the scalar `PathIntegrator::scatter` gives them, and the
+    /// lanes whose paths go on are pushed to `next`.
+    pub(super) fn continue_paths(
+        &self,
         paths: &mut [PathState],
         hits: &[Option<SurfaceInteraction>],
         stats: &mut RayStats,
         next: &mut LaneList,
     ) {
-        let n = self.len;
-        let (input, out) = (&self.input, &mut self.out);
-        scatter_lanes_any(n, input, out);
-        for (k, &lane) in self.lanes[..n].iter().enumerate() {
+        let out = &self.out;
+        for (k, &lane) in self.lanes[..self.len].iter().enumerate() {
             if !out.sampled[k] {
                 continue;
             }
@@ -138,29 +134,79 @@ impl DiffuseLanes {
     }
 }
 
-/// What the kernel needs of each lane.
-struct Inputs {
+/// The diffuse lanes of one scatter stage.
+pub(super) struct DiffuseLanes {
+    set: ScatterSet,
+    /// The diffuse albedo of each lane.
+    albedo: Vec3Lanes,
+}
+
+impl DiffuseLanes {
+    /// No lanes.
+    pub(super) fn new() -> Self {
+        Self { set: ScatterSet::EMPTY, albedo: Vec3Lanes::ZERO }
+    }
+
+    /// No lanes again, for the next stage.
+    pub(super) fn clear(&mut self) {
+        self.set.len = 0;
+    }
+
+    /// Take `lane` (its path `path` at `si`, with the diffuse lobe
+    /// `diffuse` in the shading frame `frame`, and the vertex's samples
+    /// `u`), writing what the kernel needs of it into the kernel's inputs
+    /// while it is at hand.
+    #[inline]
+    pub(super) fn take(
+        &mut self,
+        lane: u8,
+        path: &PathState,
+        si: &SurfaceInteraction,
+        frame: &Frame,
+        diffuse: &DiffuseBxdf,
+        u: &VertexSamples,
+    ) {
+        let k = self.set.take(lane, path, si, frame, u);
+        self.albedo.set(k, diffuse.r);
+    }
+
+    /// The scatter stage of the lanes taken: each lane's path gets its new
+    /// throughput and ray, as the scalar `PathIntegrator::scatter` gives
+    /// them, and the lanes whose paths go on are pushed to `next`.
+    pub(super) fn scatter(
+        &mut self,
+        paths: &mut [PathState],
+        hits: &[Option<SurfaceInteraction>],
+        stats: &mut RayStats,
+        next: &mut LaneList,
+    ) {
+        let set = &mut self.set;
+        scatter_lanes_any(set.len, &set.input, &self.albedo, &mut set.out);
+        set.continue_paths(paths, hits, stats, next);
+    }
+}
+
+/// What a scatter kernel needs of each lane.
+pub(super) struct Inputs {
     /// The shading frame's axes (`fz`: the shading normal).
-    fx: Vec3Lanes,
-    fy: Vec3Lanes,
-    fz: Vec3Lanes,
+    pub(super) fx: Vec3Lanes,
+    pub(super) fy: Vec3Lanes,
+    pub(super) fz: Vec3Lanes,
     /// Towards where the path came from (unit).
-    wo: Vec3Lanes,
-    /// The diffuse albedo.
-    r: Vec3Lanes,
+    pub(super) wo: Vec3Lanes,
     /// The path throughput.
-    beta: Vec3Lanes,
+    pub(super) beta: Vec3Lanes,
     /// The surface point, its error bounds and its geometric normal.
-    p: Vec3Lanes,
-    p_error: Vec3Lanes,
-    n: Vec3Lanes,
+    pub(super) p: Vec3Lanes,
+    pub(super) p_error: Vec3Lanes,
+    pub(super) n: Vec3Lanes,
     /// The direction's 2D sample and the roulette sample.
-    u: [[f32; LANES]; 2],
-    u_rr: [f32; LANES],
+    pub(super) u: [[f32; LANES]; 2],
+    pub(super) u_rr: [f32; LANES],
     /// The accumulated η² of refractions.
-    eta_scale: [f32; LANES],
+    pub(super) eta_scale: [f32; LANES],
     /// Whether Russian roulette plays at this vertex.
-    roulette: [bool; LANES],
+    pub(super) roulette: [bool; LANES],
 }
 
 impl Inputs {
@@ -169,7 +215,6 @@ impl Inputs {
         fy: Vec3Lanes::ZERO,
         fz: Vec3Lanes::ZERO,
         wo: Vec3Lanes::ZERO,
-        r: Vec3Lanes::ZERO,
         beta: Vec3Lanes::ZERO,
         p: Vec3Lanes::ZERO,
         p_error: Vec3Lanes::ZERO,
@@ -181,30 +226,30 @@ impl Inputs {
     };
 }
 
-/// What the kernel finds for each lane.
-struct Outputs {
+/// What a scatter kernel finds for each lane.
+pub(super) struct Outputs {
     /// Whether the BSDF gave a direction that carries light and a finite
     /// throughput: the path counts a secondary ray.
-    sampled: [bool; LANES],
+    pub(super) sampled: [bool; LANES],
     /// Whether the path goes on: sampled and not ended by roulette.
-    survives: [bool; LANES],
+    pub(super) survives: [bool; LANES],
     /// The new direction (unit), its pdf, and the ray's origin off the
     /// surface.
-    wi: Vec3Lanes,
-    pdf: [f32; LANES],
-    origin: Vec3Lanes,
+    pub(super) wi: Vec3Lanes,
+    pub(super) pdf: [f32; LANES],
+    pub(super) origin: Vec3Lanes,
     /// The new throughput.
-    beta: Vec3Lanes,
-    /// The concentric map's radius and angle, and the angle's cosine and
-    /// sine (between the kernel's loops).
-    radius: [f32; LANES],
-    theta: [f32; LANES],
-    cos: [f32; LANES],
-    sin: [f32; LANES],
+    pub(super) beta: Vec3Lanes,
+    /// A radius and an angle of the direction's sample, and the angle's
+    /// cosine and sine (between a kernel's loops).
+    pub(super) radius: [f32; LANES],
+    pub(super) theta: [f32; LANES],
+    pub(super) cos: [f32; LANES],
+    pub(super) sin: [f32; LANES],
 }
 
 impl Outputs {
-    const ZERO: Self = Self {
+    pub(super) const ZERO: Self = Self {
         sampled: [false; LANES],
         survives: [false; LANES],
         wi: Vec3Lanes::ZERO,
@@ -219,12 +264,12 @@ impl Outputs {
 }
 
 /// [`scatter_lanes`] in the build for this CPU.
-fn scatter_lanes_any(n: usize, input: &Inputs, out: &mut Outputs) {
+fn scatter_lanes_any(n: usize, input: &Inputs, albedo: &Vec3Lanes, out: &mut Outputs) {
     match isa() {
         // SAFETY: `isa` found AVX2 (AVX-512 includes it).
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 | Isa::Avx512 => unsafe { scatter_lanes_avx2(n, input, out) },
-        _ => scatter_lanes(n, input, out),
+        Isa::Avx2 | Isa::Avx512 => unsafe { scatter_lanes_avx2(n, input, albedo, out) },
+        _ => scatter_lanes(n, input, albedo, out),
     }
 }
 
@@ -236,8 +281,8 @@ fn scatter_lanes_any(n: usize, input: &Inputs, out: &mut Outputs) {
 /// the values are the portable build's.)
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn scatter_lanes_avx2(n: usize, input: &Inputs, out: &mut Outputs) {
-    scatter_lanes(n, input, out);
+unsafe fn scatter_lanes_avx2(n: usize, input: &Inputs, albedo: &Vec3Lanes, out: &mut Outputs) {
+    scatter_lanes(n, input, albedo, out);
 }
 
 /// The next float up from `x` (`f32::next_up`), without branches.
@@ -271,14 +316,75 @@ fn step_away(x: f32, down: bool) -> f32 {
     f32::from_bits(if keep { bits } else { stepped })
 }
 
-/// The kernel: the scatter stage of lanes `0..n`, each a diffuse vertex.
-/// Its vector loops take the lanes a [`GROUP`] at a time, each group's
-/// values in fixed-size local arrays, so that every group is vector code
-/// (a loop over the count would leave up to 31 lanes to a scalar
-/// remainder).
+/// One group's BSDF samples, in world space: the direction `wi`, the
+/// BSDF's value `f` and the pdf, and whether the lobe gave a sample at all
+/// (`valid`).
+pub(super) struct GroupSample {
+    pub(super) wi: [[f32; GROUP]; 3],
+    pub(super) f: [[f32; GROUP]; 3],
+    pub(super) pdf: [f32; GROUP],
+    pub(super) valid: [bool; GROUP],
+}
+
+/// The rest of the scatter stage for the group of lanes `c..c + GROUP`,
+/// once their lobe has sampled `s`: what `PathIntegrator::scatter` does
+/// with a BSDF sample, operation for operation.
+///
+/// 1. the throughput update `β ← β·f·|cos θ|/pdf` (a sample that carries
+///    no light or gives a throughput that is not finite ends the path);
+/// 2. the origin of the next ray, offset off the surface by its error
+///    bounds ([`crate::geometry::offset_ray_origin`], PBRT 4th ed.,
+///    §6.8.6);
+/// 3. Russian roulette.
+#[inline(always)]
+pub(super) fn continue_group(c: usize, input: &Inputs, s: &GroupSample, out: &mut Outputs) {
+    let [fzx, fzy, fzz] = input.fz.group(c);
+    let ([betax, betay, betaz], [px, py, pz]) = (input.beta.group(c), input.p.group(c));
+    let ([errx, erry, errz], [nx, ny, nz]) = (input.p_error.group(c), input.n.group(c));
+    let (eta, u_rr, roulette) = (group(&input.eta_scale, c), group(&input.u_rr, c), group(&input.roulette, c));
+    let (mut sampled, mut survives) = ([false; GROUP], [false; GROUP]);
+    let (mut origin, mut beta) = ([[0.0; GROUP]; 3], [[0.0; GROUP]; 3]);
+    for j in 0..GROUP {
+        let (wx, wy, wz) = (s.wi[0][j], s.wi[1][j], s.wi[2][j]);
+        let (f_x, f_y, f_z) = (s.f[0][j], s.f[1][j], s.f[2][j]);
+        let carries = (f_x > 0.0) | (f_y > 0.0) | (f_z > 0.0);
+        let t = (wx * fzx[j] + wy * fzy[j] + wz * fzz[j]).abs() / s.pdf[j];
+        let (bx, by, bz) = (betax[j] * (f_x * t), betay[j] * (f_y * t), betaz[j] * (f_z * t));
+        let finite = bx.is_finite() & by.is_finite() & bz.is_finite();
+        sampled[j] = s.valid[j] & carries & finite;
+        // `offset_ray_origin`: off the surface by the error bounds along
+        // the normal, on the side of `wi`, then one float further.
+        let d = nx[j].abs() * errx[j] + ny[j].abs() * erry[j] + nz[j].abs() * errz[j];
+        let (ex, ey, ez) = (d * nx[j], d * ny[j], d * nz[j]);
+        let below = wx * nx[j] + wy * ny[j] + wz * nz[j] < 0.0;
+        let (ex, ey, ez) = if below { (-ex, -ey, -ez) } else { (ex, ey, ez) };
+        for (a, (po, e)) in [(px[j] + ex, ex), (py[j] + ey, ey), (pz[j] + ez, ez)].into_iter().enumerate() {
+            let moved = if e > 0.0 { next_up(po) } else { next_down(po) };
+            origin[a][j] = if (e == 0.0) | e.is_nan() { po } else { moved };
+        }
+        // Russian roulette: survive with probability min(max β·η², 0.95).
+        let survive = (bx * eta[j]).max(by * eta[j]).max(bz * eta[j]).min(0.95);
+        let lost = roulette[j] & (u_rr[j] >= survive);
+        let (bx, by, bz) = if roulette[j] { (bx / survive, by / survive, bz / survive) } else { (bx, by, bz) };
+        survives[j] = sampled[j] & !lost;
+        (beta[0][j], beta[1][j], beta[2][j]) = (bx, by, bz);
+    }
+    set_group(&mut out.sampled, c, sampled);
+    set_group(&mut out.survives, c, survives);
+    set_group(&mut out.pdf, c, s.pdf);
+    out.wi.set_group(c, s.wi);
+    out.origin.set_group(c, origin);
+    out.beta.set_group(c, beta);
+}
+
+/// The kernel: the scatter stage of lanes `0..n`, each a diffuse vertex of
+/// albedo `albedo`. Its vector loops take the lanes a [`GROUP`] at a time,
+/// each group's values in fixed-size local arrays, so that every group is
+/// vector code (a loop over the count would leave up to 31 lanes to a
+/// scalar remainder).
 #[allow(clippy::needless_range_loop)]
 #[inline(always)]
-fn scatter_lanes(n: usize, input: &Inputs, out: &mut Outputs) {
+fn scatter_lanes(n: usize, input: &Inputs, albedo: &Vec3Lanes, out: &mut Outputs) {
     let n = n.min(LANES);
     let groups = (0..n.div_ceil(GROUP)).map(|g| g * GROUP);
     // Shirley and Chiu's concentric map (`sampling::concentric_disk`):
@@ -306,12 +412,9 @@ fn scatter_lanes(n: usize, input: &Inputs, out: &mut Outputs) {
         let (radius, cos, sin) = (group(&out.radius, c), group(&out.cos, c), group(&out.sin, c));
         let ([fxx, fxy, fxz], [fyx, fyy, fyz], [fzx, fzy, fzz]) =
             (input.fx.group(c), input.fy.group(c), input.fz.group(c));
-        let ([wox, woy, woz], [rx, ry, rz]) = (input.wo.group(c), input.r.group(c));
-        let ([betax, betay, betaz], [px, py, pz]) = (input.beta.group(c), input.p.group(c));
-        let ([errx, erry, errz], [nx, ny, nz]) = (input.p_error.group(c), input.n.group(c));
-        let (eta, u_rr, roulette) = (group(&input.eta_scale, c), group(&input.u_rr, c), group(&input.roulette, c));
-        let (mut sampled, mut survives, mut pdf) = ([false; GROUP], [false; GROUP], [0.0; GROUP]);
-        let (mut wi, mut origin, mut beta) = ([[0.0; GROUP]; 3], [[0.0; GROUP]; 3], [[0.0; GROUP]; 3]);
+        let ([wox, woy, woz], [rx, ry, rz]) = (input.wo.group(c), albedo.group(c));
+        let mut s =
+            GroupSample { wi: [[0.0; GROUP]; 3], f: [[0.0; GROUP]; 3], pdf: [0.0; GROUP], valid: [false; GROUP] };
         for j in 0..GROUP {
             // `concentric_disk`: the centre of the square maps to the
             // centre.
@@ -325,45 +428,17 @@ fn scatter_lanes(n: usize, input: &Inputs, out: &mut Outputs) {
             let z = (1.0 - dx * dx - dy * dy).max(0.0).sqrt();
             let wo_z = wox[j] * fzx[j] + woy[j] * fzy[j] + woz[j] * fzz[j];
             let z = if wo_z < 0.0 { -z } else { z };
-            pdf[j] = z.abs() * FRAC_1_PI;
-            let valid = (wo_z != 0.0) & (pdf[j] > 0.0) & (z != 0.0);
+            let pdf = z.abs() * FRAC_1_PI;
+            s.pdf[j] = pdf;
+            s.valid[j] = (wo_z != 0.0) & (pdf > 0.0) & (z != 0.0);
             // `Frame::from_local`.
-            let wx = fxx[j] * dx + fyx[j] * dy + fzx[j] * z;
-            let wy = fxy[j] * dx + fyy[j] * dy + fzy[j] * z;
-            let wz = fxz[j] * dx + fyz[j] * dy + fzz[j] * z;
-            // The scatter stage: f = R/π, then β·f·|cos θ|/pdf.
-            let (f_x, f_y, f_z) = (rx[j] * FRAC_1_PI, ry[j] * FRAC_1_PI, rz[j] * FRAC_1_PI);
-            let carries = (f_x > 0.0) | (f_y > 0.0) | (f_z > 0.0);
-            let t = (wx * fzx[j] + wy * fzy[j] + wz * fzz[j]).abs() / pdf[j];
-            let (bx, by, bz) = (betax[j] * (f_x * t), betay[j] * (f_y * t), betaz[j] * (f_z * t));
-            let finite = bx.is_finite() & by.is_finite() & bz.is_finite();
-            sampled[j] = valid & carries & finite;
-            // `offset_ray_origin`: off the surface by the error bounds
-            // along the normal, on the side of `wi`, then one float
-            // further.
-            let d = nx[j].abs() * errx[j] + ny[j].abs() * erry[j] + nz[j].abs() * errz[j];
-            let (ex, ey, ez) = (d * nx[j], d * ny[j], d * nz[j]);
-            let below = wx * nx[j] + wy * ny[j] + wz * nz[j] < 0.0;
-            let (ex, ey, ez) = if below { (-ex, -ey, -ez) } else { (ex, ey, ez) };
-            for (a, (po, e)) in [(px[j] + ex, ex), (py[j] + ey, ey), (pz[j] + ez, ez)].into_iter().enumerate() {
-                let moved = if e > 0.0 { next_up(po) } else { next_down(po) };
-                origin[a][j] = if (e == 0.0) | e.is_nan() { po } else { moved };
-            }
-            // Russian roulette: survive with probability min(max β·η²,
-            // 0.95).
-            let survive = (bx * eta[j]).max(by * eta[j]).max(bz * eta[j]).min(0.95);
-            let lost = roulette[j] & (u_rr[j] >= survive);
-            let (bx, by, bz) = if roulette[j] { (bx / survive, by / survive, bz / survive) } else { (bx, by, bz) };
-            survives[j] = sampled[j] & !lost;
-            (wi[0][j], wi[1][j], wi[2][j]) = (wx, wy, wz);
-            (beta[0][j], beta[1][j], beta[2][j]) = (bx, by, bz);
+            s.wi[0][j] = fxx[j] * dx + fyx[j] * dy + fzx[j] * z;
+            s.wi[1][j] = fxy[j] * dx + fyy[j] * dy + fzy[j] * z;
+            s.wi[2][j] = fxz[j] * dx + fyz[j] * dy + fzz[j] * z;
+            // f = R/π.
+            (s.f[0][j], s.f[1][j], s.f[2][j]) = (rx[j] * FRAC_1_PI, ry[j] * FRAC_1_PI, rz[j] * FRAC_1_PI);
         }
-        set_group(&mut out.sampled, c, sampled);
-        set_group(&mut out.survives, c, survives);
-        set_group(&mut out.pdf, c, pdf);
-        out.wi.set_group(c, wi);
-        out.origin.set_group(c, origin);
-        out.beta.set_group(c, beta);
+        continue_group(c, input, &s, out);
     }
 }
 
@@ -479,16 +554,16 @@ mod tests {
             }
             // The portable build against the build for this CPU.
             let mut portable = Outputs::ZERO;
-            scatter_lanes(n, &kernel.input, &mut portable);
+            scatter_lanes(n, &kernel.set.input, &kernel.albedo, &mut portable);
             let mut stats = RayStats::default();
             let mut next = LaneList::empty();
             kernel.scatter(&mut paths, &hits, &mut stats, &mut next);
             for k in 0..n {
-                assert_eq!(portable.sampled[k], kernel.out.sampled[k]);
-                assert_eq!(portable.survives[k], kernel.out.survives[k]);
-                if kernel.out.survives[k] {
+                assert_eq!(portable.sampled[k], kernel.set.out.sampled[k]);
+                assert_eq!(portable.survives[k], kernel.set.out.survives[k]);
+                if kernel.set.out.survives[k] {
                     let of = |o: &Outputs| (o.wi.get(k), o.origin.get(k), o.beta.get(k), o.pdf[k]);
-                    assert_eq!(of(&portable), of(&kernel.out), "lane {k} of {n}");
+                    assert_eq!(of(&portable), of(&kernel.set.out), "lane {k} of {n}");
                 }
             }
             // Lane by lane, the scalar stage.
