@@ -211,11 +211,26 @@ impl SplatBand {
             }
             return;
         }
-        for (i, w) in self.wx[..nx].iter_mut().enumerate() {
-            *w = filter.evaluate((kx_lo + i as i64) as f32 + 0.5 - u.x);
-        }
-        for (j, w) in self.wy[..ny].iter_mut().enumerate() {
-            *w = filter.evaluate((ky_lo + j as i64) as f32 + 0.5 - u.y);
+        let column = |i: usize| (kx_lo + i as i64) as f32 + 0.5 - u.x;
+        let row = |j: usize| (ky_lo + j as i64) as f32 + 0.5 - u.y;
+        if nx + ny <= 8 {
+            // Columns and rows together in one set of lanes (a Gaussian of
+            // radius 1.5 has 3 of each): their factors computed side by
+            // side, the values of `evaluate`.
+            let mut x = [0.0; 8];
+            for (k, x) in x.iter_mut().enumerate() {
+                *x = if k < nx { column(k) } else { row(k - nx) };
+            }
+            let w = filter.evaluate8(x);
+            self.wx[..nx].copy_from_slice(&w[..nx]);
+            self.wy[..ny].copy_from_slice(&w[nx..nx + ny]);
+        } else {
+            for (i, w) in self.wx[..nx].iter_mut().enumerate() {
+                *w = filter.evaluate(column(i));
+            }
+            for (j, w) in self.wy[..ny].iter_mut().enumerate() {
+                *w = filter.evaluate(row(j));
+            }
         }
         for j in 0..ny {
             let (ky, wy) = (ky_lo + j as i64, self.wy[j]);
