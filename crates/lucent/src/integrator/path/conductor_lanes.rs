@@ -18,7 +18,7 @@
 //! 4. the direction back into world space;
 //!
 //! then the rest of the scatter stage that every kernel shares
-//! ([`continue_group`]). Every line is the operation of the scalar code it
+//! ([`super::scatter_lanes::continue_group`]). Every line is the operation of the scalar code it
 //! replaces, in the same order, so each lane's new path state is the scalar
 //! stage's bit for bit (a test compares them over random lanes); only the
 //! cosine and sine of the disk's angle are called lane by lane. Mirrors,
@@ -28,10 +28,7 @@
 //! [`TrowbridgeReitz::d_visible`]: crate::bsdf::TrowbridgeReitz::d_visible
 
 use super::lanes::{LaneList, PathState};
-use super::scatter_lanes::{continue_group, GroupSample, Inputs, Outputs, ScatterSet};
-use crate::accel::isa;
-#[cfg(target_arch = "x86_64")]
-use crate::accel::Isa;
+use super::scatter_lanes::{scatter_kernel, GroupSample, Inputs, LobeLanes, Outputs, ScatterSet};
 use crate::bsdf::fresnel::fr_complex_lanes;
 use crate::bsdf::{reflectance_to_complex_ior, ConductorBxdf, ConductorFresnel};
 use crate::geometry::{group, Frame, Vec3Lanes, GROUP, LANES};
@@ -43,6 +40,11 @@ use std::f32::consts::PI;
 /// The rough conductor lanes of one scatter stage.
 pub(super) struct ConductorLanes {
     set: ScatterSet,
+    lobes: ConductorLobes,
+}
+
+/// The rough conductor lobes of a kernel's lanes.
+struct ConductorLobes {
     /// The roughness along the shading frame's x and y.
     alpha_x: [f32; LANES],
     alpha_y: [f32; LANES],
@@ -56,10 +58,12 @@ impl ConductorLanes {
     pub(super) fn new() -> Self {
         Self {
             set: ScatterSet::EMPTY,
-            alpha_x: [0.0; LANES],
-            alpha_y: [0.0; LANES],
-            eta: Vec3Lanes::ZERO,
-            k: Vec3Lanes::ZERO,
+            lobes: ConductorLobes {
+                alpha_x: [0.0; LANES],
+                alpha_y: [0.0; LANES],
+                eta: Vec3Lanes::ZERO,
+                k: Vec3Lanes::ZERO,
+            },
         }
     }
 
@@ -89,15 +93,16 @@ impl ConductorLanes {
         u: &VertexSamples,
     ) {
         let k = self.set.take(lane, path, si, frame, u);
-        self.alpha_x[k] = conductor.distrib.alpha_x();
-        self.alpha_y[k] = conductor.distrib.alpha_y();
+        let lobes = &mut self.lobes;
+        lobes.alpha_x[k] = conductor.distrib.alpha_x();
+        lobes.alpha_y[k] = conductor.distrib.alpha_y();
         let (eta, kappa) = match conductor.fresnel {
             ConductorFresnel::Complex { eta, k } => (eta, k),
             ConductorFresnel::Reflectance { r } => reflectance_to_complex_ior(r),
             ConductorFresnel::Schlick { .. } => unreachable!("the kernel does not take Schlick's Fresnel"),
         };
-        self.eta.set(k, eta);
-        self.k.set(k, kappa);
+        lobes.eta.set(k, eta);
+        lobes.k.set(k, kappa);
     }
 
     /// The scatter stage of the lanes taken, as [`super::scatter_lanes::DiffuseLanes::scatter`].
@@ -108,41 +113,10 @@ impl ConductorLanes {
         stats: &mut RayStats,
         next: &mut LaneList,
     ) {
-        let n = self.set.len;
-        let params = Params { alpha_x: &self.alpha_x, alpha_y: &self.alpha_y, eta: &self.eta, k: &self.k };
-        conductor_lanes_any(n, &self.set.input, &params, &mut self.set.out);
-        self.set.continue_paths(paths, hits, stats, next);
+        let set = &mut self.set;
+        scatter_kernel(set.len, &set.input, &self.lobes, &mut set.out);
+        set.continue_paths(paths, hits, stats, next);
     }
-}
-
-/// The lobes' own inputs.
-struct Params<'a> {
-    alpha_x: &'a [f32; LANES],
-    alpha_y: &'a [f32; LANES],
-    eta: &'a Vec3Lanes,
-    k: &'a Vec3Lanes,
-}
-
-/// [`conductor_lanes`] in the build for this CPU.
-fn conductor_lanes_any(n: usize, input: &Inputs, params: &Params, out: &mut Outputs) {
-    match isa() {
-        // SAFETY: `isa` found AVX2 (AVX-512 includes it).
-        #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 | Isa::Avx512 => unsafe { conductor_lanes_avx2(n, input, params, out) },
-        _ => conductor_lanes(n, input, params, out),
-    }
-}
-
-/// [`conductor_lanes`] compiled for AVX2: eight lanes to a register.
-///
-/// # Safety
-/// The CPU must have AVX2 and FMA (which Rust never uses to fuse a
-/// multiplication and an addition itself: the values are the portable
-/// build's).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn conductor_lanes_avx2(n: usize, input: &Inputs, params: &Params, out: &mut Outputs) {
-    conductor_lanes(n, input, params, out);
 }
 
 /// Smith's `Λ(w)` of the GGX distribution (`TrowbridgeReitz::lambda`) for
@@ -175,30 +149,32 @@ fn d(x: f32, y: f32, z: f32, ax: f32, ay: f32) -> f32 {
     }
 }
 
-/// The kernel: the BSDF samples of lanes `0..n`, each a rough conductor,
-/// a [`GROUP`] of lanes at a time, then [`continue_group`].
-#[allow(clippy::needless_range_loop)]
-#[inline(always)]
-fn conductor_lanes(n: usize, input: &Inputs, params: &Params, out: &mut Outputs) {
-    let n = n.min(LANES);
-    // The disk's radius and angle for `sample_wm`, then the angle's cosine
-    // and sine lane by lane (the library's own).
-    let whole = (n.div_ceil(GROUP) * GROUP).min(LANES);
-    for k in 0..whole {
-        out.radius[k] = input.u[0][k].sqrt();
-        out.theta[k] = 2.0 * PI * input.u[1][k];
+impl LobeLanes for ConductorLobes {
+    /// The disk's radius and angle for `sample_wm`, then the angle's
+    /// cosine and sine lane by lane (the library's own).
+    #[inline(always)]
+    fn prepare(&self, n: usize, input: &Inputs, out: &mut Outputs) {
+        let whole = (n.div_ceil(GROUP) * GROUP).min(LANES);
+        for k in 0..whole {
+            out.radius[k] = input.u[0][k].sqrt();
+            out.theta[k] = 2.0 * PI * input.u[1][k];
+        }
+        for k in 0..n {
+            (out.cos[k], out.sin[k]) = (out.theta[k].cos(), out.theta[k].sin());
+        }
     }
-    for k in 0..n {
-        (out.cos[k], out.sin[k]) = (out.theta[k].cos(), out.theta[k].sin());
-    }
-    for c in (0..n.div_ceil(GROUP)).map(|g| g * GROUP) {
+
+    /// `ConductorBxdf::sample_f` of each lane of the group, through
+    /// `Bsdf::sample_f`'s frames.
+    #[allow(clippy::needless_range_loop)]
+    #[inline(always)]
+    fn sample_group(&self, c: usize, input: &Inputs, out: &Outputs) -> GroupSample {
         let (radius, cos, sin) = (group(&out.radius, c), group(&out.cos, c), group(&out.sin, c));
         let ([fxx, fxy, fxz], [fyx, fyy, fyz], [fzx, fzy, fzz]) =
             (input.fx.group(c), input.fy.group(c), input.fz.group(c));
         let [wox, woy, woz] = input.wo.group(c);
-        let (alpha_x, alpha_y) = (group(params.alpha_x, c), group(params.alpha_y, c));
-        let mut s =
-            GroupSample { wi: [[0.0; GROUP]; 3], f: [[0.0; GROUP]; 3], pdf: [0.0; GROUP], valid: [false; GROUP] };
+        let (alpha_x, alpha_y) = (group(&self.alpha_x, c), group(&self.alpha_y, c));
+        let mut s = GroupSample::ZERO;
         // The Fresnel term's cosine, and the factor `D G / (4 cos θo cos
         // θi)` it multiplies.
         let (mut cos_f, mut scale) = ([0.0; GROUP], [0.0; GROUP]);
@@ -272,9 +248,9 @@ fn conductor_lanes(n: usize, input: &Inputs, params: &Params, out: &mut Outputs)
         // `fr_conductor`, one channel of the group at a time, times the
         // factor (zero where the directions are not both above).
         for (axis, (eta, k)) in [
-            (group(&params.eta.x, c), group(&params.k.x, c)),
-            (group(&params.eta.y, c), group(&params.k.y, c)),
-            (group(&params.eta.z, c), group(&params.k.z, c)),
+            (group(&self.eta.x, c), group(&self.k.x, c)),
+            (group(&self.eta.y, c), group(&self.k.y, c)),
+            (group(&self.eta.z, c), group(&self.k.z, c)),
         ]
         .into_iter()
         .enumerate()
@@ -284,12 +260,13 @@ fn conductor_lanes(n: usize, input: &Inputs, params: &Params, out: &mut Outputs)
                 s.f[axis][j] = fresnel[j] * scale[j];
             }
         }
-        continue_group(c, input, &s, out);
+        s
     }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::scatter_lanes::scatter_kernel_portable;
     use super::*;
     use crate::bsdf::{Bsdf, Bxdf, TrowbridgeReitz};
     use crate::color::Color;
@@ -375,8 +352,7 @@ mod tests {
                 kernel.take(k as u8, path, si, bsdf.frame(), lobe, u);
             }
             let mut portable = Outputs::ZERO;
-            let params = Params { alpha_x: &kernel.alpha_x, alpha_y: &kernel.alpha_y, eta: &kernel.eta, k: &kernel.k };
-            conductor_lanes(n, &kernel.set.input, &params, &mut portable);
+            scatter_kernel_portable(n, &kernel.set.input, &kernel.lobes, &mut portable);
             let mut stats = RayStats::default();
             let mut next = LaneList::empty();
             kernel.scatter(&mut paths, &hits, &mut stats, &mut next);

@@ -19,9 +19,11 @@
 //!    §6.8.6);
 //! 4. Russian roulette.
 //!
-//! Steps 2 to 4 are the same for every lobe: [`continue_group`] runs them
-//! for this kernel and for the rough conductors' ([`super::conductor_lanes`]),
-//! and [`ScatterSet`] holds the lanes, inputs and outputs the two share.
+//! Steps 2 to 4 are the same for every lobe: [`scatter_kernel`] runs a
+//! lobe's samples ([`LobeLanes`]: this file's diffuse lobes, and the rough
+//! conductors of [`super::conductor_lanes`]) and then [`continue_group`]
+//! for each group of lanes, and [`ScatterSet`] holds the lanes, inputs and
+//! outputs the kernels share.
 //!
 //! Each step is a loop over the lanes in scalar arithmetic, written
 //! without branches so that the compiler turns it into vector
@@ -137,6 +139,11 @@ impl ScatterSet {
 /// The diffuse lanes of one scatter stage.
 pub(super) struct DiffuseLanes {
     set: ScatterSet,
+    lobes: DiffuseLobes,
+}
+
+/// The diffuse lobes of a kernel's lanes.
+struct DiffuseLobes {
     /// The diffuse albedo of each lane.
     albedo: Vec3Lanes,
 }
@@ -144,7 +151,7 @@ pub(super) struct DiffuseLanes {
 impl DiffuseLanes {
     /// No lanes.
     pub(super) fn new() -> Self {
-        Self { set: ScatterSet::EMPTY, albedo: Vec3Lanes::ZERO }
+        Self { set: ScatterSet::EMPTY, lobes: DiffuseLobes { albedo: Vec3Lanes::ZERO } }
     }
 
     /// No lanes again, for the next stage.
@@ -167,7 +174,7 @@ impl DiffuseLanes {
         u: &VertexSamples,
     ) {
         let k = self.set.take(lane, path, si, frame, u);
-        self.albedo.set(k, diffuse.r);
+        self.lobes.albedo.set(k, diffuse.r);
     }
 
     /// The scatter stage of the lanes taken: each lane's path gets its new
@@ -181,7 +188,7 @@ impl DiffuseLanes {
         next: &mut LaneList,
     ) {
         let set = &mut self.set;
-        scatter_lanes_any(set.len, &set.input, &self.albedo, &mut set.out);
+        scatter_kernel(set.len, &set.input, &self.lobes, &mut set.out);
         set.continue_paths(paths, hits, stats, next);
     }
 }
@@ -263,17 +270,31 @@ impl Outputs {
     };
 }
 
-/// [`scatter_lanes`] in the build for this CPU.
-fn scatter_lanes_any(n: usize, input: &Inputs, albedo: &Vec3Lanes, out: &mut Outputs) {
+/// A lobe that a scatter kernel samples across lanes: its own inputs, lane
+/// by lane, and how it samples them.
+pub(super) trait LobeLanes {
+    /// What the lobe computes one lane at a time for lanes `0..n` before
+    /// the groups (into `out`'s scratch arrays): the C library's cosine and
+    /// sine.
+    fn prepare(&self, n: usize, input: &Inputs, out: &mut Outputs);
+    /// The BSDF samples of the group of lanes `c..c + GROUP`, in world
+    /// space.
+    fn sample_group(&self, c: usize, input: &Inputs, out: &Outputs) -> GroupSample;
+}
+
+/// The scatter stage of lanes `0..n` with the lobes `lobes`, in the build
+/// for this CPU.
+pub(super) fn scatter_kernel<L: LobeLanes>(n: usize, input: &Inputs, lobes: &L, out: &mut Outputs) {
     match isa() {
         // SAFETY: `isa` found AVX2 (AVX-512 includes it).
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 | Isa::Avx512 => unsafe { scatter_lanes_avx2(n, input, albedo, out) },
-        _ => scatter_lanes(n, input, albedo, out),
+        Isa::Avx2 | Isa::Avx512 => unsafe { scatter_kernel_avx2(n, input, lobes, out) },
+        _ => scatter_kernel_portable(n, input, lobes, out),
     }
 }
 
-/// [`scatter_lanes`] compiled for AVX2: eight lanes to a register.
+/// [`scatter_kernel_portable`] compiled for AVX2: eight lanes to a
+/// register.
 ///
 /// # Safety
 /// The CPU must have AVX2 and FMA. (FMA only makes the instructions
@@ -281,8 +302,23 @@ fn scatter_lanes_any(n: usize, input: &Inputs, albedo: &Vec3Lanes, out: &mut Out
 /// the values are the portable build's.)
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn scatter_lanes_avx2(n: usize, input: &Inputs, albedo: &Vec3Lanes, out: &mut Outputs) {
-    scatter_lanes(n, input, albedo, out);
+unsafe fn scatter_kernel_avx2<L: LobeLanes>(n: usize, input: &Inputs, lobes: &L, out: &mut Outputs) {
+    scatter_kernel_portable(n, input, lobes, out);
+}
+
+/// The kernel: the scatter stage of lanes `0..n`. Its vector loops take
+/// the lanes a [`GROUP`] at a time, each group's values in fixed-size
+/// local arrays, so that every group is vector code (a loop over the count
+/// would leave up to 31 lanes to a scalar remainder): the lobes' samples,
+/// then [`continue_group`].
+#[inline(always)]
+pub(super) fn scatter_kernel_portable<L: LobeLanes>(n: usize, input: &Inputs, lobes: &L, out: &mut Outputs) {
+    let n = n.min(LANES);
+    lobes.prepare(n, input, out);
+    for c in (0..n.div_ceil(GROUP)).map(|g| g * GROUP) {
+        let s = lobes.sample_group(c, input, out);
+        continue_group(c, input, &s, out);
+    }
 }
 
 /// The next float up from `x` (`f32::next_up`), without branches.
@@ -324,6 +360,12 @@ pub(super) struct GroupSample {
     pub(super) f: [[f32; GROUP]; 3],
     pub(super) pdf: [f32; GROUP],
     pub(super) valid: [bool; GROUP],
+}
+
+impl GroupSample {
+    /// No sample in any lane.
+    pub(super) const ZERO: Self =
+        Self { wi: [[0.0; GROUP]; 3], f: [[0.0; GROUP]; 3], pdf: [0.0; GROUP], valid: [false; GROUP] };
 }
 
 /// The rest of the scatter stage for the group of lanes `c..c + GROUP`,
@@ -377,44 +419,43 @@ pub(super) fn continue_group(c: usize, input: &Inputs, s: &GroupSample, out: &mu
     out.beta.set_group(c, beta);
 }
 
-/// The kernel: the scatter stage of lanes `0..n`, each a diffuse vertex of
-/// albedo `albedo`. Its vector loops take the lanes a [`GROUP`] at a time,
-/// each group's values in fixed-size local arrays, so that every group is
-/// vector code (a loop over the count would leave up to 31 lanes to a
-/// scalar remainder).
-#[allow(clippy::needless_range_loop)]
-#[inline(always)]
-fn scatter_lanes(n: usize, input: &Inputs, albedo: &Vec3Lanes, out: &mut Outputs) {
-    let n = n.min(LANES);
-    let groups = (0..n.div_ceil(GROUP)).map(|g| g * GROUP);
-    // Shirley and Chiu's concentric map (`sampling::concentric_disk`):
-    // the radius and angle of the disk point.
-    // (A loop over the lanes, not over groups: the loop vectoriser takes
-    // it, where it would leave the unrolled groups to scalar code with a
-    // branch for the quotient. The count rounded up to whole groups.)
-    let whole = (n.div_ceil(GROUP) * GROUP).min(LANES);
-    for k in 0..whole {
-        let (ox, oy) = (2.0 * input.u[0][k] - 1.0, 2.0 * input.u[1][k] - 1.0);
-        let wide = ox.abs() > oy.abs();
-        // One quotient, of the operands the lane needs, for either branch
-        // of the map (`oy/ox` or `ox/oy`).
-        let (num, den) = if wide { (oy, ox) } else { (ox, oy) };
-        let q = num / den;
-        out.radius[k] = den;
-        out.theta[k] = if wide { FRAC_PI_4 * q } else { 2.0 * FRAC_PI_4 - FRAC_PI_4 * q };
+impl LobeLanes for DiffuseLobes {
+    /// Shirley and Chiu's concentric map (`sampling::concentric_disk`):
+    /// the radius and angle of the disk point, then the angle's cosine and
+    /// sine lane by lane (the library's own).
+    #[inline(always)]
+    fn prepare(&self, n: usize, input: &Inputs, out: &mut Outputs) {
+        // (A loop over the lanes, not over groups: the loop vectoriser
+        // takes it, where it would leave the unrolled groups to scalar code
+        // with a branch for the quotient. The count rounded up to whole
+        // groups.)
+        let whole = (n.div_ceil(GROUP) * GROUP).min(LANES);
+        for k in 0..whole {
+            let (ox, oy) = (2.0 * input.u[0][k] - 1.0, 2.0 * input.u[1][k] - 1.0);
+            let wide = ox.abs() > oy.abs();
+            // One quotient, of the operands the lane needs, for either
+            // branch of the map (`oy/ox` or `ox/oy`).
+            let (num, den) = if wide { (oy, ox) } else { (ox, oy) };
+            let q = num / den;
+            out.radius[k] = den;
+            out.theta[k] = if wide { FRAC_PI_4 * q } else { 2.0 * FRAC_PI_4 - FRAC_PI_4 * q };
+        }
+        for k in 0..n {
+            (out.cos[k], out.sin[k]) = (out.theta[k].cos(), out.theta[k].sin());
+        }
     }
-    // The angle's cosine and sine, lane by lane (the library's own).
-    for k in 0..n {
-        (out.cos[k], out.sin[k]) = (out.theta[k].cos(), out.theta[k].sin());
-    }
-    for c in groups {
+
+    /// `DiffuseBxdf::sample_f` of each lane of the group, and its value
+    /// `R/π`.
+    #[allow(clippy::needless_range_loop)]
+    #[inline(always)]
+    fn sample_group(&self, c: usize, input: &Inputs, out: &Outputs) -> GroupSample {
         let (u0, u1) = (group(&input.u[0], c), group(&input.u[1], c));
         let (radius, cos, sin) = (group(&out.radius, c), group(&out.cos, c), group(&out.sin, c));
         let ([fxx, fxy, fxz], [fyx, fyy, fyz], [fzx, fzy, fzz]) =
             (input.fx.group(c), input.fy.group(c), input.fz.group(c));
-        let ([wox, woy, woz], [rx, ry, rz]) = (input.wo.group(c), albedo.group(c));
-        let mut s =
-            GroupSample { wi: [[0.0; GROUP]; 3], f: [[0.0; GROUP]; 3], pdf: [0.0; GROUP], valid: [false; GROUP] };
+        let ([wox, woy, woz], [rx, ry, rz]) = (input.wo.group(c), self.albedo.group(c));
+        let mut s = GroupSample::ZERO;
         for j in 0..GROUP {
             // `concentric_disk`: the centre of the square maps to the
             // centre.
@@ -438,7 +479,7 @@ fn scatter_lanes(n: usize, input: &Inputs, albedo: &Vec3Lanes, out: &mut Outputs
             // f = R/π.
             (s.f[0][j], s.f[1][j], s.f[2][j]) = (rx[j] * FRAC_1_PI, ry[j] * FRAC_1_PI, rz[j] * FRAC_1_PI);
         }
-        continue_group(c, input, &s, out);
+        s
     }
 }
 
@@ -554,7 +595,7 @@ mod tests {
             }
             // The portable build against the build for this CPU.
             let mut portable = Outputs::ZERO;
-            scatter_lanes(n, &kernel.set.input, &kernel.albedo, &mut portable);
+            scatter_kernel_portable(n, &kernel.set.input, &kernel.lobes, &mut portable);
             let mut stats = RayStats::default();
             let mut next = LaneList::empty();
             kernel.scatter(&mut paths, &hits, &mut stats, &mut next);
