@@ -27,24 +27,20 @@
 //! [`TrowbridgeReitz::sample_wm`]: crate::bsdf::TrowbridgeReitz::sample_wm
 //! [`TrowbridgeReitz::d_visible`]: crate::bsdf::TrowbridgeReitz::d_visible
 
-use super::lanes::{LaneList, PathState};
-use super::scatter_lanes::{scatter_kernel, GroupSample, Inputs, LobeLanes, Outputs, ScatterSet};
+use super::lanes::PathState;
+use super::scatter_lanes::{GroupSample, Inputs, LobeLanes, Outputs, ScatterLanes, ScatterSet};
 use crate::bsdf::fresnel::fr_complex_lanes;
 use crate::bsdf::{reflectance_to_complex_ior, ConductorBxdf, ConductorFresnel};
 use crate::geometry::{group, Frame, Vec3Lanes, GROUP, LANES};
-use crate::integrator::RayStats;
 use crate::interaction::SurfaceInteraction;
 use crate::sampling::VertexSamples;
 use std::f32::consts::PI;
 
 /// The rough conductor lanes of one scatter stage.
-pub(super) struct ConductorLanes {
-    set: ScatterSet,
-    lobes: ConductorLobes,
-}
+pub(super) type ConductorLanes = ScatterLanes<ConductorLobes>;
 
 /// The rough conductor lobes of a kernel's lanes.
-struct ConductorLobes {
+pub(super) struct ConductorLobes {
     /// The roughness along the shading frame's x and y.
     alpha_x: [f32; LANES],
     alpha_y: [f32; LANES],
@@ -65,11 +61,6 @@ impl ConductorLanes {
                 k: Vec3Lanes::ZERO,
             },
         }
-    }
-
-    /// No lanes again, for the next stage.
-    pub(super) fn clear(&mut self) {
-        self.set.len = 0;
     }
 
     /// Whether the kernel takes `conductor`: a rough one with the exact
@@ -103,19 +94,6 @@ impl ConductorLanes {
         };
         lobes.eta.set(k, eta);
         lobes.k.set(k, kappa);
-    }
-
-    /// The scatter stage of the lanes taken, as [`super::scatter_lanes::DiffuseLanes::scatter`].
-    pub(super) fn scatter(
-        &mut self,
-        paths: &mut [PathState],
-        hits: &[Option<SurfaceInteraction>],
-        stats: &mut RayStats,
-        next: &mut LaneList,
-    ) {
-        let set = &mut self.set;
-        scatter_kernel(set.len, &set.input, &self.lobes, &mut set.out);
-        set.continue_paths(paths, hits, stats, next);
     }
 }
 
@@ -266,42 +244,21 @@ impl LobeLanes for ConductorLobes {
 
 #[cfg(test)]
 mod tests {
+    use super::super::lanes::LaneList;
     use super::super::scatter_lanes::scatter_kernel_portable;
+    use super::super::scatter_lanes::tests::{check_against_scalar, random_vertex, Lane};
     use super::*;
     use crate::bsdf::{Bsdf, Bxdf, TrowbridgeReitz};
     use crate::color::Color;
-    use crate::geometry::{Ray, Vec2, Vec3};
-    use crate::integrator::path::PathIntegrator;
-    use crate::material::MaterialId;
-    use crate::medium::MediumInterface;
-    use crate::mesh::VertexAttributes;
+    use crate::geometry::Vec2;
+    use crate::integrator::RayStats;
     use crate::sampling::Pcg32;
 
-    /// A random lane's path, hit and rough conductor, and its vertex
-    /// samples, with grazing and lower-side `wo`, anisotropic and very
-    /// rough or nearly smooth lobes, and both kinds of Fresnel index.
-    fn lane(rng: &mut Pcg32, k: usize) -> (PathState, SurfaceInteraction, Bsdf, VertexSamples) {
-        let mut v = || Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
-        let (origin, dir, p, n, ns, dpdu) = (v(), v(), v() * 10.0, v().normalize(), v().normalize(), v());
-        let p_error = v().abs() * 1e-5;
-        let mut path = PathState::new(&Ray::new(origin, dir), None);
-        path.beta = Color::new(rng.uniform(), rng.uniform(), rng.uniform()) * [0.01, 1.0, 30.0][k % 3];
-        path.depth = k as u32 % 8;
-        path.any_non_specular = k % 2 == 0;
-        let si = SurfaceInteraction {
-            t: 1.0,
-            p,
-            p_error,
-            n,
-            ns,
-            uv: Vec2::ZERO,
-            attributes: VertexAttributes::default(),
-            dpdu,
-            dpdv: n.cross(dpdu),
-            material: MaterialId::new(0),
-            light: None,
-            media: MediumInterface::default(),
-        };
+    /// A random lane with a rough conductor: grazing and lower-side `wo`,
+    /// anisotropic and very rough or nearly smooth lobes, both kinds of
+    /// Fresnel index, samples on the square's edges.
+    fn lane(rng: &mut Pcg32, k: usize) -> Lane {
+        let (mut path, si) = random_vertex(rng, k);
         let alpha = [0.002, 0.05, 0.3, 0.9, 3.0][k % 5] * (0.5 + rng.uniform());
         let distrib = match k % 3 {
             0 => TrowbridgeReitz::new(alpha),
@@ -314,7 +271,7 @@ mod tests {
         } else {
             ConductorFresnel::Complex { eta: color(2.0, rng) + Color::splat(0.05), k: color(5.0, rng) }
         };
-        let bsdf = Bsdf::new(ns, dpdu, Bxdf::Conductor(ConductorBxdf { fresnel, distrib }));
+        let bsdf = Bsdf::new(si.ns, si.dpdu, Bxdf::Conductor(ConductorBxdf { fresnel, distrib }));
         let mut dir_u = Vec2::new(rng.uniform(), rng.uniform());
         match k % 7 {
             0 => dir_u = Vec2::ZERO,
@@ -337,12 +294,11 @@ mod tests {
     /// 64; and the portable build equals the build for this CPU.
     #[test]
     fn conductor_lanes_equal_the_scalar_scatter() {
-        let integrator = PathIntegrator::new(100);
         let mut rng = Pcg32::new(17, 3);
         let (mut went_on, mut ended) = (0, 0);
         for batch in 0..400 {
             let n = 1 + batch % LANES;
-            let lanes: Vec<_> = (0..n).map(|k| lane(&mut rng, k + batch)).collect();
+            let lanes: Vec<Lane> = (0..n).map(|k| lane(&mut rng, k + batch)).collect();
             let mut paths: Vec<PathState> = lanes.iter().map(|l| l.0).collect();
             let hits: Vec<Option<SurfaceInteraction>> = lanes.iter().map(|l| Some(l.1)).collect();
             let mut kernel = ConductorLanes::new();
@@ -353,41 +309,10 @@ mod tests {
             }
             let mut portable = Outputs::ZERO;
             scatter_kernel_portable(n, &kernel.set.input, &kernel.lobes, &mut portable);
-            let mut stats = RayStats::default();
-            let mut next = LaneList::empty();
+            let (mut stats, mut next) = (RayStats::default(), LaneList::empty());
             kernel.scatter(&mut paths, &hits, &mut stats, &mut next);
-            let out = &kernel.set.out;
-            for k in 0..n {
-                assert_eq!((portable.sampled[k], portable.survives[k]), (out.sampled[k], out.survives[k]));
-                if out.survives[k] {
-                    let of = |o: &Outputs| (o.wi.get(k), o.origin.get(k), o.beta.get(k), o.pdf[k]);
-                    assert_eq!(of(&portable), of(out), "lane {k} of {n}");
-                }
-            }
-            let mut scalar_stats = RayStats::default();
-            for (k, (path, si, bsdf, u)) in lanes.iter().enumerate() {
-                let mut scalar = *path;
-                let goes_on = integrator.scatter(&mut scalar, si, bsdf, u, &mut scalar_stats);
-                assert_eq!(goes_on, next.as_slice().contains(&(k as u8)), "lane {k} of {n}: {bsdf:?} {u:?}");
-                if !goes_on {
-                    ended += 1;
-                    continue;
-                }
-                went_on += 1;
-                let lane = &paths[k];
-                let bits = |v: Vec3| v.to_array().map(f32::to_bits);
-                assert_eq!(bits(lane.beta), bits(scalar.beta), "throughput of lane {k} of {n}: {bsdf:?}");
-                assert_eq!(bits(lane.ray.origin), bits(scalar.ray.origin), "origin of lane {k} of {n}");
-                assert_eq!(bits(lane.ray.dir), bits(scalar.ray.dir), "direction of lane {k} of {n}");
-                assert_eq!(lane.prev_pdf.to_bits(), scalar.prev_pdf.to_bits(), "pdf of lane {k} of {n}");
-                assert_eq!((lane.prev_ctx.p, lane.prev_ctx.n), (scalar.prev_ctx.p, scalar.prev_ctx.n));
-                assert_eq!((lane.depth, lane.eta_scale.to_bits()), (scalar.depth, scalar.eta_scale.to_bits()));
-                assert_eq!(
-                    (lane.specular_bounce, lane.indirect, lane.any_non_specular),
-                    (scalar.specular_bounce, scalar.indirect, scalar.any_non_specular)
-                );
-            }
-            assert_eq!(stats.secondary, scalar_stats.secondary, "secondary rays of batch {batch}");
+            let (w, e) = check_against_scalar(&lanes, (&portable, &kernel.set.out), (&paths, &next, &stats));
+            (went_on, ended) = (went_on + w, ended + e);
         }
         // Most lanes go on, and some end (below the surface, or roulette).
         assert!(went_on > 5000 && ended > 200, "{went_on} went on, {ended} ended");

@@ -136,14 +136,40 @@ impl ScatterSet {
     }
 }
 
-/// The diffuse lanes of one scatter stage.
-pub(super) struct DiffuseLanes {
-    set: ScatterSet,
-    lobes: DiffuseLobes,
+/// The lanes of one scatter stage that a kernel takes: those whose BSDF is
+/// one kind of lobe, `L`.
+pub(super) struct ScatterLanes<L> {
+    pub(super) set: ScatterSet,
+    pub(super) lobes: L,
 }
 
+impl<L: LobeLanes> ScatterLanes<L> {
+    /// No lanes again, for the next stage.
+    pub(super) fn clear(&mut self) {
+        self.set.len = 0;
+    }
+
+    /// The scatter stage of the lanes taken: each lane's path gets its new
+    /// throughput and ray, as the scalar `PathIntegrator::scatter` gives
+    /// them, and the lanes whose paths go on are pushed to `next`.
+    pub(super) fn scatter(
+        &mut self,
+        paths: &mut [PathState],
+        hits: &[Option<SurfaceInteraction>],
+        stats: &mut RayStats,
+        next: &mut LaneList,
+    ) {
+        let set = &mut self.set;
+        scatter_kernel(set.len, &set.input, &self.lobes, &mut set.out);
+        set.continue_paths(paths, hits, stats, next);
+    }
+}
+
+/// The diffuse lanes of one scatter stage.
+pub(super) type DiffuseLanes = ScatterLanes<DiffuseLobes>;
+
 /// The diffuse lobes of a kernel's lanes.
-struct DiffuseLobes {
+pub(super) struct DiffuseLobes {
     /// The diffuse albedo of each lane.
     albedo: Vec3Lanes,
 }
@@ -152,11 +178,6 @@ impl DiffuseLanes {
     /// No lanes.
     pub(super) fn new() -> Self {
         Self { set: ScatterSet::EMPTY, lobes: DiffuseLobes { albedo: Vec3Lanes::ZERO } }
-    }
-
-    /// No lanes again, for the next stage.
-    pub(super) fn clear(&mut self) {
-        self.set.len = 0;
     }
 
     /// Take `lane` (its path `path` at `si`, with the diffuse lobe
@@ -175,21 +196,6 @@ impl DiffuseLanes {
     ) {
         let k = self.set.take(lane, path, si, frame, u);
         self.lobes.albedo.set(k, diffuse.r);
-    }
-
-    /// The scatter stage of the lanes taken: each lane's path gets its new
-    /// throughput and ray, as the scalar `PathIntegrator::scatter` gives
-    /// them, and the lanes whose paths go on are pushed to `next`.
-    pub(super) fn scatter(
-        &mut self,
-        paths: &mut [PathState],
-        hits: &[Option<SurfaceInteraction>],
-        stats: &mut RayStats,
-        next: &mut LaneList,
-    ) {
-        let set = &mut self.set;
-        scatter_kernel(set.len, &set.input, &self.lobes, &mut set.out);
-        set.continue_paths(paths, hits, stats, next);
     }
 }
 
@@ -484,7 +490,7 @@ impl LobeLanes for DiffuseLobes {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::bsdf::{Bsdf, Bxdf};
     use crate::color::Color;
@@ -522,10 +528,13 @@ mod tests {
         }
     }
 
-    /// A random lane's path, hit and diffuse BSDF, and its vertex samples,
-    /// with the corner cases of the concentric map and of the throughput
-    /// mixed in.
-    fn lane(rng: &mut Pcg32, k: usize) -> (PathState, SurfaceInteraction, Bsdf, VertexSamples) {
+    /// A lane of a kernel test: the path, its hit, the BSDF there and the
+    /// vertex's samples.
+    pub(in crate::integrator::path) type Lane = (PathState, SurfaceInteraction, Bsdf, VertexSamples);
+
+    /// A random path (throughputs small and large, depths before and past
+    /// the roulette's) at a random hit, for the scatter kernels' tests.
+    pub(in crate::integrator::path) fn random_vertex(rng: &mut Pcg32, k: usize) -> (PathState, SurfaceInteraction) {
         let mut v = || Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
         let (origin, dir, p, n, ns, dpdu) = (v(), v(), v() * 10.0, v().normalize(), v().normalize(), v());
         let p_error = v().abs() * 1e-5;
@@ -548,6 +557,62 @@ mod tests {
             light: None,
             media: MediumInterface::default(),
         };
+        (path, si)
+    }
+
+    /// After a kernel ran over `lanes` (its portable build into `portable`,
+    /// the build for this CPU into `out`, and its write-back into `paths`,
+    /// `next` and `stats`): both builds agree, and each lane's path state
+    /// is the scalar scatter stage's bit for bit (whether it goes on, the
+    /// count of secondary rays, the throughput, the ray, the pdf and the
+    /// flags). Returns how many lanes went on and how many ended.
+    pub(in crate::integrator::path) fn check_against_scalar(
+        lanes: &[Lane],
+        (portable, out): (&Outputs, &Outputs),
+        (paths, next, stats): (&[PathState], &LaneList, &RayStats),
+    ) -> (usize, usize) {
+        let n = lanes.len();
+        for k in 0..n {
+            assert_eq!((portable.sampled[k], portable.survives[k]), (out.sampled[k], out.survives[k]));
+            if out.survives[k] {
+                let of = |o: &Outputs| (o.wi.get(k), o.origin.get(k), o.beta.get(k), o.pdf[k]);
+                assert_eq!(of(portable), of(out), "lane {k} of {n}");
+            }
+        }
+        let integrator = PathIntegrator::new(100);
+        let (mut went_on, mut ended) = (0, 0);
+        let mut scalar_stats = RayStats::default();
+        for (k, (path, si, bsdf, u)) in lanes.iter().enumerate() {
+            let mut scalar = *path;
+            let goes_on = integrator.scatter(&mut scalar, si, bsdf, u, &mut scalar_stats);
+            assert_eq!(goes_on, next.as_slice().contains(&(k as u8)), "lane {k} of {n}: {bsdf:?} {u:?}");
+            if !goes_on {
+                ended += 1;
+                continue;
+            }
+            went_on += 1;
+            let lane = &paths[k];
+            let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+            assert_eq!(bits(lane.beta), bits(scalar.beta), "throughput of lane {k} of {n}: {bsdf:?}");
+            assert_eq!(bits(lane.ray.origin), bits(scalar.ray.origin), "origin of lane {k} of {n}");
+            assert_eq!(bits(lane.ray.dir), bits(scalar.ray.dir), "direction of lane {k} of {n}");
+            assert_eq!(lane.prev_pdf.to_bits(), scalar.prev_pdf.to_bits(), "pdf of lane {k} of {n}");
+            assert_eq!((lane.prev_ctx.p, lane.prev_ctx.n), (scalar.prev_ctx.p, scalar.prev_ctx.n));
+            assert_eq!((lane.depth, lane.eta_scale.to_bits()), (scalar.depth, scalar.eta_scale.to_bits()));
+            assert_eq!(
+                (lane.specular_bounce, lane.indirect, lane.any_non_specular),
+                (scalar.specular_bounce, scalar.indirect, scalar.any_non_specular)
+            );
+        }
+        assert_eq!(stats.secondary, scalar_stats.secondary, "secondary rays");
+        (went_on, ended)
+    }
+
+    /// A random lane with a diffuse BSDF, with the corner cases of the
+    /// concentric map and of the throughput mixed in.
+    fn lane(rng: &mut Pcg32, k: usize) -> Lane {
+        let (mut path, si) = random_vertex(rng, k);
+        let (ns, dpdu) = (si.ns, si.dpdu);
         let mut r = Color::new(rng.uniform(), rng.uniform(), rng.uniform());
         if k % 11 == 0 {
             r = Color::ZERO;
@@ -573,19 +638,17 @@ mod tests {
         (path, si, bsdf, u)
     }
 
-    /// The kernel's scatter stage gives each lane the path state that the
-    /// scalar scatter stage gives it, bit for bit: whether it goes on, the
-    /// count of secondary rays, the throughput, the ray, the pdf and the
-    /// flags, over random lanes in batches of 1 to 64, with roulette and
-    /// without; and the portable build equals the build for this CPU.
+    /// The kernel gives each lane the path state that the scalar scatter
+    /// stage gives it, bit for bit, over random lanes in batches of 1 to 64,
+    /// with roulette and without; and the portable build equals the build
+    /// for this CPU ([`check_against_scalar`]).
     #[test]
     fn diffuse_lanes_equal_the_scalar_scatter() {
-        let integrator = PathIntegrator::new(100);
         let mut rng = Pcg32::new(11, 5);
         let mut went_on = 0;
         for batch in 0..300 {
             let n = 1 + batch % LANES;
-            let lanes: Vec<_> = (0..n).map(|k| lane(&mut rng, k + batch)).collect();
+            let lanes: Vec<Lane> = (0..n).map(|k| lane(&mut rng, k + batch)).collect();
             let mut paths: Vec<PathState> = lanes.iter().map(|l| l.0).collect();
             let hits: Vec<Option<SurfaceInteraction>> = lanes.iter().map(|l| Some(l.1)).collect();
             let mut kernel = DiffuseLanes::new();
@@ -593,44 +656,11 @@ mod tests {
                 let Bxdf::Diffuse(lobe) = bsdf.bxdf() else { panic!("lane {k} is not diffuse") };
                 kernel.take(k as u8, path, si, bsdf.frame(), lobe, u);
             }
-            // The portable build against the build for this CPU.
             let mut portable = Outputs::ZERO;
             scatter_kernel_portable(n, &kernel.set.input, &kernel.lobes, &mut portable);
-            let mut stats = RayStats::default();
-            let mut next = LaneList::empty();
+            let (mut stats, mut next) = (RayStats::default(), LaneList::empty());
             kernel.scatter(&mut paths, &hits, &mut stats, &mut next);
-            for k in 0..n {
-                assert_eq!(portable.sampled[k], kernel.set.out.sampled[k]);
-                assert_eq!(portable.survives[k], kernel.set.out.survives[k]);
-                if kernel.set.out.survives[k] {
-                    let of = |o: &Outputs| (o.wi.get(k), o.origin.get(k), o.beta.get(k), o.pdf[k]);
-                    assert_eq!(of(&portable), of(&kernel.set.out), "lane {k} of {n}");
-                }
-            }
-            // Lane by lane, the scalar stage.
-            let mut scalar_stats = RayStats::default();
-            for (k, (path, si, bsdf, u)) in lanes.iter().enumerate() {
-                let mut scalar = *path;
-                let goes_on = integrator.scatter(&mut scalar, si, bsdf, u, &mut scalar_stats);
-                assert_eq!(goes_on, next.as_slice().contains(&(k as u8)), "lane {k} of {n}");
-                if !goes_on {
-                    continue;
-                }
-                went_on += 1;
-                let lane = &paths[k];
-                let bits = |v: Vec3| v.to_array().map(f32::to_bits);
-                assert_eq!(bits(lane.beta), bits(scalar.beta), "throughput of lane {k} of {n}");
-                assert_eq!(bits(lane.ray.origin), bits(scalar.ray.origin), "origin of lane {k} of {n}");
-                assert_eq!(bits(lane.ray.dir), bits(scalar.ray.dir), "direction of lane {k} of {n}");
-                assert_eq!(lane.prev_pdf.to_bits(), scalar.prev_pdf.to_bits());
-                assert_eq!((lane.prev_ctx.p, lane.prev_ctx.n), (scalar.prev_ctx.p, scalar.prev_ctx.n));
-                assert_eq!((lane.depth, lane.eta_scale.to_bits()), (scalar.depth, scalar.eta_scale.to_bits()));
-                assert_eq!(
-                    (lane.specular_bounce, lane.indirect, lane.any_non_specular),
-                    (scalar.specular_bounce, scalar.indirect, scalar.any_non_specular)
-                );
-            }
-            assert_eq!(stats.secondary, scalar_stats.secondary, "secondary rays of batch {batch}");
+            went_on += check_against_scalar(&lanes, (&portable, &kernel.set.out), (&paths, &next, &stats)).0;
         }
         // Most lanes go on.
         assert!(went_on > 4000, "{went_on}");
