@@ -245,8 +245,20 @@ impl Mesh {
     /// The surface at barycentrics `b` of triangle `face`, hit at `t`.
     #[inline]
     fn hit_at(&self, t: f32, face: u32, b: [f32; 3]) -> ShapeHit {
-        let [i0, i1, i2] = self.indices[face as usize].map(|i| i as usize);
-        let [p0, p1, p2] = [i0, i1, i2].map(|i| Vec3::from(self.positions[i]));
+        self.hit_at_corners(t, face, b, self.triangle(face as usize))
+    }
+
+    /// [`Mesh::hit_at`] with the triangle's corners given (as the BVH's leaf
+    /// holds them, the same values): the index buffer is read only where a
+    /// vertex attribute needs it.
+    #[inline(always)]
+    fn hit_at_corners(&self, t: f32, face: u32, b: [f32; 3], [p0, p1, p2]: [Vec3; 3]) -> ShapeHit {
+        let indexed = self.normals.is_some()
+            || self.uvs.is_some()
+            || self.tangents.is_some()
+            || self.uvs1.is_some()
+            || self.colors.is_some();
+        let [i0, i1, i2] = if indexed { self.indices[face as usize].map(|i| i as usize) } else { [0; 3] };
         let [b0, b1, b2] = b;
         let p = b0 * p0 + b1 * p1 + b2 * p2;
         let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
@@ -310,7 +322,7 @@ impl Mesh {
     /// up through each layer of the query.
     #[inline(always)]
     pub fn hit_record(&self, hit: &MeshHit) -> ShapeHit {
-        self.hit_at(hit.t, hit.triangle, hit.b)
+        self.hit_at_corners(hit.t, hit.triangle, hit.b, self.bvh.corners(hit))
     }
 
     /// The nearest hit with `0 < t < t_max`.

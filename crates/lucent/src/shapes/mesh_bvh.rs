@@ -20,6 +20,18 @@ pub struct MeshHit {
     pub triangle: u32,
     /// Barycentric weights of the triangle's corners.
     pub b: [f32; 3],
+    /// The leaf block and its lane that hold the triangle's corners
+    /// ([`MeshBvh::corners`]).
+    pub(crate) block: u32,
+    pub(crate) lane: u32,
+}
+
+impl MeshHit {
+    /// The hit `(t, b)` on lane `lane` of block `index`, `block`.
+    #[inline(always)]
+    fn new(t: f32, b: [f32; 3], block: &TriangleBlock, index: u32, lane: usize) -> Self {
+        Self { t, triangle: block.ids[lane], b, block: index, lane: lane as u32 }
+    }
 }
 
 /// An eight-wide BVH whose leaves are blocks of up to four triangles.
@@ -100,6 +112,20 @@ impl MeshBvh {
         prefetch(self.blocks.as_ptr().wrapping_add(b as usize), 3);
     }
 
+    /// The corners of the triangle of `hit`, as its leaf block holds them:
+    /// the mesh's positions bit for bit, read from the block the traversal
+    /// has just tested (in the cache) rather than through the index buffer.
+    #[inline(always)]
+    pub(crate) fn corners(&self, hit: &MeshHit) -> [Vec3; 3] {
+        let (block, lane) = (&self.blocks[hit.block as usize], hit.lane as usize & 3);
+        // (`as_ref` indexing: a variable index into a glam vector is a
+        // chain of branches.)
+        std::array::from_fn(|c| {
+            let [x, y, z] = &block.p[c];
+            Vec3::new(x.as_ref()[lane], y.as_ref()[lane], z.as_ref()[lane])
+        })
+    }
+
     /// The closest hit with `t ∈ [t_min, t_max]`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<MeshHit> {
@@ -167,12 +193,12 @@ impl MeshBvh {
                 t_min,
                 &mut t_max,
                 |b| self.prefetch_block(b),
-                |block, _, t_max| {
-                    let block = &self.blocks[block as usize];
+                |index, _, t_max| {
+                    let block = &self.blocks[index as usize];
                     match intersect_block(&tri_ray, block, t_min, *t_max) {
                         Some((lane, h)) => {
                             *t_max = h.t;
-                            best = Some(MeshHit { t: h.t, triangle: block.ids[lane], b: h.b });
+                            best = Some(MeshHit::new(h.t, h.b, block, index, lane));
                             true
                         }
                         None => false,
@@ -206,15 +232,15 @@ impl MeshBvh {
             t_min,
             &mut t_max,
             |b| self.prefetch_block(b),
-            |block, _, t_max| {
-                let block = &self.blocks[block as usize];
+            |index, _, t_max| {
+                let block = &self.blocks[index as usize];
                 let found = intersect_block_filtered(&tri_ray, block, t_min, *t_max, |lane, h| {
-                    accept(&MeshHit { t: h.t, triangle: block.ids[lane], b: h.b })
+                    accept(&MeshHit::new(h.t, h.b, block, index, lane))
                 });
                 match found {
                     Some((lane, h)) => {
                         *t_max = h.t;
-                        best = Some(MeshHit { t: h.t, triangle: block.ids[lane], b: h.b });
+                        best = Some(MeshHit::new(h.t, h.b, block, index, lane));
                         true
                     }
                     None => false,
@@ -241,10 +267,10 @@ impl MeshBvh {
             t_min,
             t_max,
             |b| self.prefetch_block(b),
-            |block, _| {
-                let block = &self.blocks[block as usize];
+            |index, _| {
+                let block = &self.blocks[index as usize];
                 intersect_block_filtered(&tri_ray, block, t_min, t_max, |lane, h| {
-                    accept(&MeshHit { t: h.t, triangle: block.ids[lane], b: h.b })
+                    accept(&MeshHit::new(h.t, h.b, block, index, lane))
                 })
                 .is_some()
             },
@@ -383,8 +409,15 @@ mod tests {
                     expected = Some(MeshHit { triangle: i as u32, ..h });
                 }
             }
-            assert_eq!(closest, expected, "ray {ray:?}");
+            // (The blocks differ between the trees: compare the hits.)
+            let hit = |h: Option<MeshHit>| h.map(|h| (h.t, h.triangle, h.b));
+            assert_eq!(hit(closest), hit(expected), "ray {ray:?}");
             assert_eq!(any, expected.is_some(), "ray {ray:?}");
+            if let Some(h) = closest {
+                // The corners the leaf holds are the mesh's, bit for bit.
+                let corners = mesh.indices[h.triangle as usize].map(|i| mesh.positions[i as usize]);
+                assert_eq!(bvh.corners(&h), corners, "ray {ray:?}");
+            }
             hits += any as usize;
         }
         assert!(hits > rays / 10, "only {hits} hits");
