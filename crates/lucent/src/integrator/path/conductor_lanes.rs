@@ -244,14 +244,11 @@ impl LobeLanes for ConductorLobes {
 
 #[cfg(test)]
 mod tests {
-    use super::super::lanes::LaneList;
-    use super::super::scatter_lanes::scatter_kernel_portable;
-    use super::super::scatter_lanes::tests::{check_against_scalar, random_vertex, Lane};
+    use super::super::scatter_lanes::tests::{random_vertex, scatter_and_check, Lane};
     use super::*;
     use crate::bsdf::{Bsdf, Bxdf, TrowbridgeReitz};
     use crate::color::Color;
     use crate::geometry::Vec2;
-    use crate::integrator::RayStats;
     use crate::sampling::Pcg32;
 
     /// A random lane with a rough conductor: grazing and lower-side `wo`,
@@ -299,19 +296,13 @@ mod tests {
         for batch in 0..400 {
             let n = 1 + batch % LANES;
             let lanes: Vec<Lane> = (0..n).map(|k| lane(&mut rng, k + batch)).collect();
-            let mut paths: Vec<PathState> = lanes.iter().map(|l| l.0).collect();
-            let hits: Vec<Option<SurfaceInteraction>> = lanes.iter().map(|l| Some(l.1)).collect();
             let mut kernel = ConductorLanes::new();
             for (k, (path, si, bsdf, u)) in lanes.iter().enumerate() {
                 let Bxdf::Conductor(lobe) = bsdf.bxdf() else { panic!("lane {k} is not a conductor") };
                 assert!(ConductorLanes::takes(lobe));
                 kernel.take(k as u8, path, si, bsdf.frame(), lobe, u);
             }
-            let mut portable = Outputs::ZERO;
-            scatter_kernel_portable(n, &kernel.set.input, &kernel.lobes, &mut portable);
-            let (mut stats, mut next) = (RayStats::default(), LaneList::empty());
-            kernel.scatter(&mut paths, &hits, &mut stats, &mut next);
-            let (w, e) = check_against_scalar(&lanes, (&portable, &kernel.set.out), (&paths, &next, &stats));
+            let (w, e) = scatter_and_check(&lanes, &mut kernel);
             (went_on, ended) = (went_on + w, ended + e);
         }
         // Most lanes go on, and some end (below the surface, or roulette).

@@ -560,23 +560,29 @@ pub(super) mod tests {
         (path, si)
     }
 
-    /// After a kernel ran over `lanes` (its portable build into `portable`,
-    /// the build for this CPU into `out`, and its write-back into `paths`,
-    /// `next` and `stats`): both builds agree, and each lane's path state
-    /// is the scalar scatter stage's bit for bit (whether it goes on, the
-    /// count of secondary rays, the throughput, the ray, the pdf and the
-    /// flags). Returns how many lanes went on and how many ended.
-    pub(in crate::integrator::path) fn check_against_scalar(
+    /// Run `kernel`, which has taken `lanes` in order, in its portable
+    /// build and in the build for this CPU, and check that both agree and
+    /// that each lane's path state is the scalar scatter stage's bit for
+    /// bit (whether it goes on, the count of secondary rays, the
+    /// throughput, the ray, the pdf and the flags). Returns how many lanes
+    /// went on and how many ended.
+    pub(in crate::integrator::path) fn scatter_and_check<L: LobeLanes>(
         lanes: &[Lane],
-        (portable, out): (&Outputs, &Outputs),
-        (paths, next, stats): (&[PathState], &LaneList, &RayStats),
+        kernel: &mut ScatterLanes<L>,
     ) -> (usize, usize) {
         let n = lanes.len();
+        let mut paths: Vec<PathState> = lanes.iter().map(|l| l.0).collect();
+        let hits: Vec<Option<SurfaceInteraction>> = lanes.iter().map(|l| Some(l.1)).collect();
+        let mut portable = Outputs::ZERO;
+        scatter_kernel_portable(n, &kernel.set.input, &kernel.lobes, &mut portable);
+        let (mut stats, mut next) = (RayStats::default(), LaneList::empty());
+        kernel.scatter(&mut paths, &hits, &mut stats, &mut next);
+        let out = &kernel.set.out;
         for k in 0..n {
             assert_eq!((portable.sampled[k], portable.survives[k]), (out.sampled[k], out.survives[k]));
             if out.survives[k] {
                 let of = |o: &Outputs| (o.wi.get(k), o.origin.get(k), o.beta.get(k), o.pdf[k]);
-                assert_eq!(of(portable), of(out), "lane {k} of {n}");
+                assert_eq!(of(&portable), of(out), "lane {k} of {n}");
             }
         }
         let integrator = PathIntegrator::new(100);
@@ -641,7 +647,7 @@ pub(super) mod tests {
     /// The kernel gives each lane the path state that the scalar scatter
     /// stage gives it, bit for bit, over random lanes in batches of 1 to 64,
     /// with roulette and without; and the portable build equals the build
-    /// for this CPU ([`check_against_scalar`]).
+    /// for this CPU ([`scatter_and_check`]).
     #[test]
     fn diffuse_lanes_equal_the_scalar_scatter() {
         let mut rng = Pcg32::new(11, 5);
@@ -649,18 +655,12 @@ pub(super) mod tests {
         for batch in 0..300 {
             let n = 1 + batch % LANES;
             let lanes: Vec<Lane> = (0..n).map(|k| lane(&mut rng, k + batch)).collect();
-            let mut paths: Vec<PathState> = lanes.iter().map(|l| l.0).collect();
-            let hits: Vec<Option<SurfaceInteraction>> = lanes.iter().map(|l| Some(l.1)).collect();
             let mut kernel = DiffuseLanes::new();
             for (k, (path, si, bsdf, u)) in lanes.iter().enumerate() {
                 let Bxdf::Diffuse(lobe) = bsdf.bxdf() else { panic!("lane {k} is not diffuse") };
                 kernel.take(k as u8, path, si, bsdf.frame(), lobe, u);
             }
-            let mut portable = Outputs::ZERO;
-            scatter_kernel_portable(n, &kernel.set.input, &kernel.lobes, &mut portable);
-            let (mut stats, mut next) = (RayStats::default(), LaneList::empty());
-            kernel.scatter(&mut paths, &hits, &mut stats, &mut next);
-            went_on += check_against_scalar(&lanes, (&portable, &kernel.set.out), (&paths, &next, &stats)).0;
+            went_on += scatter_and_check(&lanes, &mut kernel).0;
         }
         // Most lanes go on.
         assert!(went_on > 4000, "{went_on}");
