@@ -27,13 +27,10 @@
 //! [`TrowbridgeReitz::sample_wm`]: crate::bsdf::TrowbridgeReitz::sample_wm
 //! [`TrowbridgeReitz::d_visible`]: crate::bsdf::TrowbridgeReitz::d_visible
 
-use super::lanes::PathState;
 use super::scatter_lanes::{GroupSample, Inputs, LobeLanes, Outputs, ScatterLanes, ScatterSet};
 use crate::bsdf::fresnel::fr_complex_lanes;
 use crate::bsdf::{reflectance_to_complex_ior, ConductorBxdf, ConductorFresnel};
-use crate::geometry::{group, Frame, Vec3Lanes, GROUP, LANES};
-use crate::interaction::SurfaceInteraction;
-use crate::sampling::VertexSamples;
+use crate::geometry::{group, Vec3Lanes, GROUP, LANES};
 use std::f32::consts::PI;
 
 /// The rough conductor lanes of one scatter stage.
@@ -69,32 +66,6 @@ impl ConductorLanes {
     pub(super) fn takes(conductor: &ConductorBxdf) -> bool {
         !conductor.distrib.effectively_smooth() && !matches!(conductor.fresnel, ConductorFresnel::Schlick { .. })
     }
-
-    /// Take `lane` (its path `path` at `si`, with the rough conductor
-    /// `conductor`, which [`ConductorLanes::takes`], in the shading frame
-    /// `frame`, and the vertex's samples `u`).
-    #[inline]
-    pub(super) fn take(
-        &mut self,
-        lane: u8,
-        path: &PathState,
-        si: &SurfaceInteraction,
-        frame: &Frame,
-        conductor: &ConductorBxdf,
-        u: &VertexSamples,
-    ) {
-        let k = self.set.take(lane, path, si, frame, u);
-        let lobes = &mut self.lobes;
-        lobes.alpha_x[k] = conductor.distrib.alpha_x();
-        lobes.alpha_y[k] = conductor.distrib.alpha_y();
-        let (eta, kappa) = match conductor.fresnel {
-            ConductorFresnel::Complex { eta, k } => (eta, k),
-            ConductorFresnel::Reflectance { r } => reflectance_to_complex_ior(r),
-            ConductorFresnel::Schlick { .. } => unreachable!("the kernel does not take Schlick's Fresnel"),
-        };
-        lobes.eta.set(k, eta);
-        lobes.k.set(k, kappa);
-    }
 }
 
 /// Smith's `Λ(w)` of the GGX distribution (`TrowbridgeReitz::lambda`) for
@@ -128,6 +99,24 @@ fn d(x: f32, y: f32, z: f32, ax: f32, ay: f32) -> f32 {
 }
 
 impl LobeLanes for ConductorLobes {
+    type Bxdf = ConductorBxdf;
+
+    /// The roughness, and the complex index (pbrt-v4's `reflectance`
+    /// turned into one here, once); for a conductor that
+    /// [`ConductorLanes::takes`].
+    #[inline(always)]
+    fn set(&mut self, k: usize, conductor: &ConductorBxdf) {
+        self.alpha_x[k] = conductor.distrib.alpha_x();
+        self.alpha_y[k] = conductor.distrib.alpha_y();
+        let (eta, kappa) = match conductor.fresnel {
+            ConductorFresnel::Complex { eta, k } => (eta, k),
+            ConductorFresnel::Reflectance { r } => reflectance_to_complex_ior(r),
+            ConductorFresnel::Schlick { .. } => unreachable!("the kernel does not take Schlick's Fresnel"),
+        };
+        self.eta.set(k, eta);
+        self.k.set(k, kappa);
+    }
+
     /// The disk's radius and angle for `sample_wm`, then the angle's
     /// cosine and sine lane by lane (the library's own).
     #[inline(always)]
@@ -250,6 +239,7 @@ mod tests {
     use crate::color::Color;
     use crate::geometry::Vec2;
     use crate::sampling::Pcg32;
+    use crate::sampling::VertexSamples;
 
     /// A random lane with a rough conductor: grazing and lower-side `wo`,
     /// anisotropic and very rough or nearly smooth lobes, both kinds of

@@ -54,7 +54,7 @@ use std::f32::consts::{FRAC_1_PI, FRAC_PI_4};
 /// diffuse and the conductor kernels share.
 pub(super) struct ScatterSet {
     /// The lanes taken, in the order they were taken.
-    lanes: [u8; LANES],
+    pub(super) lanes: [u8; LANES],
     pub(super) len: usize,
     /// The kernel's inputs and outputs, kept from one stage to the next so
     /// that they are not cleared each time.
@@ -65,37 +65,6 @@ pub(super) struct ScatterSet {
 impl ScatterSet {
     /// No lanes.
     pub(super) const EMPTY: Self = Self { lanes: [0; LANES], len: 0, input: Inputs::ZERO, out: Outputs::ZERO };
-
-    /// Take `lane` (its path `path` at `si`, in the shading frame `frame`,
-    /// with the vertex's samples `u`) as kernel lane `self.len`, writing
-    /// what every kernel needs of it into the inputs; returns that kernel
-    /// lane, for the lobe's own inputs.
-    #[inline(always)]
-    pub(super) fn take(
-        &mut self,
-        lane: u8,
-        path: &PathState,
-        si: &SurfaceInteraction,
-        frame: &Frame,
-        u: &VertexSamples,
-    ) -> usize {
-        let (k, input) = (self.len, &mut self.input);
-        self.lanes[k] = lane;
-        self.len += 1;
-        input.fx.set(k, frame.x);
-        input.fy.set(k, frame.y);
-        input.fz.set(k, frame.z);
-        input.wo.set(k, -path.ray.dir);
-        input.beta.set(k, path.beta);
-        input.p.set(k, si.p);
-        input.p_error.set(k, si.p_error);
-        input.n.set(k, si.n);
-        (input.u[0][k], input.u[1][k]) = (u.dir.x, u.dir.y);
-        input.u_rr[k] = u.rr;
-        input.eta_scale[k] = path.eta_scale;
-        input.roulette[k] = path.depth + 1 >= RR_DEPTH;
-        k
-    }
 
     /// After the kernel ran: each lane's path gets its new throughput and
     /// ray, as the scalar `PathIntegrator::scatter` gives them, and the
@@ -144,6 +113,38 @@ pub(super) struct ScatterLanes<L> {
 }
 
 impl<L: LobeLanes> ScatterLanes<L> {
+    /// Take `lane` (its path `path` at `si`, with the lobe `lobe` in the
+    /// shading frame `frame`, and the vertex's samples `u`) as the kernel's
+    /// next lane, writing what the kernel needs of it into its inputs while
+    /// it is at hand.
+    #[inline]
+    pub(super) fn take(
+        &mut self,
+        lane: u8,
+        path: &PathState,
+        si: &SurfaceInteraction,
+        frame: &Frame,
+        lobe: &L::Bxdf,
+        u: &VertexSamples,
+    ) {
+        let (k, input) = (self.set.len, &mut self.set.input);
+        self.set.lanes[k] = lane;
+        self.set.len += 1;
+        input.fx.set(k, frame.x);
+        input.fy.set(k, frame.y);
+        input.fz.set(k, frame.z);
+        input.wo.set(k, -path.ray.dir);
+        input.beta.set(k, path.beta);
+        input.p.set(k, si.p);
+        input.p_error.set(k, si.p_error);
+        input.n.set(k, si.n);
+        (input.u[0][k], input.u[1][k]) = (u.dir.x, u.dir.y);
+        input.u_rr[k] = u.rr;
+        input.eta_scale[k] = path.eta_scale;
+        input.roulette[k] = path.depth + 1 >= RR_DEPTH;
+        self.lobes.set(k, lobe);
+    }
+
     /// No lanes again, for the next stage.
     pub(super) fn clear(&mut self) {
         self.set.len = 0;
@@ -178,24 +179,6 @@ impl DiffuseLanes {
     /// No lanes.
     pub(super) fn new() -> Self {
         Self { set: ScatterSet::EMPTY, lobes: DiffuseLobes { albedo: Vec3Lanes::ZERO } }
-    }
-
-    /// Take `lane` (its path `path` at `si`, with the diffuse lobe
-    /// `diffuse` in the shading frame `frame`, and the vertex's samples
-    /// `u`), writing what the kernel needs of it into the kernel's inputs
-    /// while it is at hand.
-    #[inline]
-    pub(super) fn take(
-        &mut self,
-        lane: u8,
-        path: &PathState,
-        si: &SurfaceInteraction,
-        frame: &Frame,
-        diffuse: &DiffuseBxdf,
-        u: &VertexSamples,
-    ) {
-        let k = self.set.take(lane, path, si, frame, u);
-        self.lobes.albedo.set(k, diffuse.r);
     }
 }
 
@@ -279,6 +262,10 @@ impl Outputs {
 /// A lobe that a scatter kernel samples across lanes: its own inputs, lane
 /// by lane, and how it samples them.
 pub(super) trait LobeLanes {
+    /// The BxDF whose lanes it takes.
+    type Bxdf;
+    /// Write what the kernel needs of `bxdf` into kernel lane `k`.
+    fn set(&mut self, k: usize, bxdf: &Self::Bxdf);
     /// What the lobe computes one lane at a time for lanes `0..n` before
     /// the groups (into `out`'s scratch arrays): the C library's cosine and
     /// sine.
@@ -426,6 +413,13 @@ pub(super) fn continue_group(c: usize, input: &Inputs, s: &GroupSample, out: &mu
 }
 
 impl LobeLanes for DiffuseLobes {
+    type Bxdf = DiffuseBxdf;
+
+    #[inline(always)]
+    fn set(&mut self, k: usize, diffuse: &DiffuseBxdf) {
+        self.albedo.set(k, diffuse.r);
+    }
+
     /// Shirley and Chiu's concentric map (`sampling::concentric_disk`):
     /// the radius and angle of the disk point, then the angle's cosine and
     /// sine lane by lane (the library's own).
