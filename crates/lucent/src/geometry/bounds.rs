@@ -26,6 +26,15 @@ impl Bounds3 {
         self.min.cmpgt(self.max).any()
     }
 
+    /// The box's surface area; 0 for an empty box.
+    pub fn surface_area(&self) -> f32 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        let d = self.max - self.min;
+        2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
+    }
+
     /// Whether some extent is infinite.
     pub fn is_infinite(&self) -> bool {
         !(self.min.is_finite() && self.max.is_finite())

@@ -6,7 +6,7 @@ mod aggregate;
 mod merge;
 
 pub use aggregate::{Aggregate, BvhAggregate, LinearAggregate};
-pub(crate) use merge::merge_loose_triangles;
+pub(crate) use merge::{merge_loose_triangles, merge_small_meshes};
 
 use crate::geometry::{Bounds3, Ray, Transform, Vec3};
 use crate::interaction::SurfaceInteraction;

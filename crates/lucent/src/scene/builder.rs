@@ -8,7 +8,7 @@ use crate::geometry::{Transform, Vec3};
 use crate::light::{merge_rectangles, AreaLight, EmissionImage, Emitter, Environment, Light, LightSet};
 use crate::material::{Material, MaterialId};
 use crate::medium::{Medium, MediumId};
-use crate::primitive::{merge_loose_triangles, BvhAggregate, Primitive};
+use crate::primitive::{merge_loose_triangles, merge_small_meshes, BvhAggregate, Primitive};
 use crate::shapes::{Mesh, Shape, Sphere, Triangle};
 use crate::texture::Texture;
 use std::collections::BTreeMap;
@@ -348,8 +348,8 @@ impl SceneBuilder {
     }
 
     /// Check the whole scene and build it: expand the instances, then build
-    /// the BVH (over loose triangles merged into meshes) and the light
-    /// distribution.
+    /// the BVH (over loose triangles, and small meshes, merged into meshes)
+    /// and the light distribution.
     ///
     /// Fails when a prototype is still open, when an instance names a
     /// prototype that does not exist, or when a prototype places itself,
@@ -371,7 +371,7 @@ impl SceneBuilder {
                 primitive.remap_area_lights(&remap);
             }
         }
-        let merged = merge_loose_triangles(&self.primitives);
+        let merged = merge_small_meshes(merge_loose_triangles(&self.primitives));
         // Point and spot lights get light buffers in scenes of few
         // primitives (shadow rays then skip the BVH).
         let positions: Vec<Vec3> = self

@@ -163,6 +163,12 @@ impl Mesh {
         }
     }
 
+    /// The expected cost of a ray query that enters the mesh's box
+    /// ([`MeshBvh::expected_cost`]).
+    pub fn expected_cost(&self) -> f32 {
+        self.bvh.expected_cost()
+    }
+
     /// Number of triangles, degenerate ones included.
     pub fn triangle_count(&self) -> usize {
         self.indices.len()

@@ -83,6 +83,13 @@ impl MeshBvh {
         Self { bvh, blocks, triangle_count }
     }
 
+    /// The expected cost of a query that enters the mesh's box, in box
+    /// tests and leaf-block tests ([`Bvh::expected_cost`]; every leaf is
+    /// one block).
+    pub fn expected_cost(&self) -> f32 {
+        self.bvh.expected_cost(|_| 1.0)
+    }
+
     /// Triangles in the structure (zero-area ones excluded).
     pub fn triangle_count(&self) -> usize {
         self.triangle_count

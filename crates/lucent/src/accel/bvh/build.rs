@@ -135,14 +135,6 @@ impl BuildNode {
     }
 }
 
-fn surface_area(b: &Bounds3) -> f32 {
-    if b.is_empty() {
-        return 0.0;
-    }
-    let d = b.max - b.min;
-    2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
-}
-
 /// The bounds of the primitives' boxes and of their centroids.
 fn bounds_of(prims: &[BuildPrim]) -> (Aabb, Aabb) {
     prims.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| (b.union(&p.bounds), c.union_point(p.bounds.centroid())))
@@ -504,7 +496,7 @@ fn collect_children(node: &BuildNode) -> ([&BuildNode; WIDTH], usize) {
     let BuildNode::Interior { children: pair, .. } = node else { return (children, 1) };
     // The surface area of each child that can be opened (interior ones).
     let openable = |c: &BuildNode| match c {
-        BuildNode::Interior { bounds, .. } => Some(surface_area(bounds)),
+        BuildNode::Interior { bounds, .. } => Some(bounds.surface_area()),
         BuildNode::Leaf { .. } => None,
     };
     let mut area = [None; WIDTH];
@@ -569,6 +561,23 @@ mod tests {
                 Bounds3::from_points(c - h, c + h)
             })
             .collect()
+    }
+
+    /// The expected cost of a query is the surface area heuristic's sum,
+    /// exactly: one box alone costs its root test and its leaf; two unit
+    /// cubes nine apart are two leaves, each entered by `6/42` of the rays
+    /// that enter the root (a unit cube's area over the 10 × 1 × 1 box's);
+    /// a tree with nothing in it costs nothing.
+    #[test]
+    fn expected_cost_is_the_surface_area_sum() {
+        let cube = |x: f32| Bounds3::from_points(Vec3::new(x, 0.0, 0.0), Vec3::new(x + 1.0, 1.0, 1.0));
+        let leaf = |n: u32| 5.0 * n as f32;
+        assert_eq!(Bvh::build(&[cube(0.0)]).expected_cost(leaf), 1.0 + 5.0);
+        let two = Bvh::build(&[cube(0.0), cube(9.0)]);
+        assert_eq!(two.nodes().len(), 1);
+        assert_eq!(&two.nodes()[0].count[..2], &[1, 1]);
+        assert!((two.expected_cost(leaf) - (1.0 + 2.0 * 6.0 / 42.0 * 5.0)).abs() < 1e-6);
+        assert_eq!(Bvh::build(&[]).expected_cost(leaf), 0.0);
     }
 
     #[test]
@@ -675,7 +684,7 @@ mod tests {
             while list.len() < WIDTH {
                 let Some(i) = (0..list.len())
                     .filter(|&i| matches!(list[i], BuildNode::Interior { .. }))
-                    .max_by(|&a, &b| surface_area(&list[a].bounds()).total_cmp(&surface_area(&list[b].bounds())))
+                    .max_by(|&a, &b| list[a].bounds().surface_area().total_cmp(&list[b].bounds().surface_area()))
                 else {
                     break;
                 };
