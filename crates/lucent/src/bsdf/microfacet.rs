@@ -11,7 +11,7 @@
 //! surface's ∂p/∂u); microfacet normals `wm` are on the upper side. The
 //! roughness along `x` is `αx`, along `y` is `αy`.
 
-use crate::geometry::{Vec2, Vec3};
+use crate::geometry::{sin_cos, Vec2, Vec3};
 use std::f32::consts::PI;
 
 /// Below this α a surface is treated as perfectly smooth (a delta lobe), as
@@ -196,8 +196,9 @@ impl TrowbridgeReitz {
         // Uniform point on the unit disk (polar map, as in the paper).
         let r = u.x.sqrt();
         let phi = 2.0 * PI * u.y;
-        let p1 = r * phi.cos();
-        let mut p2 = r * phi.sin();
+        let (sin_phi, cos_phi) = sin_cos(phi);
+        let p1 = r * cos_phi;
+        let mut p2 = r * sin_phi;
         // Squash the half facing away from wh onto the projected ellipse.
         let s = 0.5 * (1.0 + wh.z);
         p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * p2;

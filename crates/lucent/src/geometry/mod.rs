@@ -13,7 +13,7 @@ mod lanes;
 mod ray;
 mod transform;
 
-pub use angle::atan2;
+pub use angle::{atan2, sin_cos, sin_cos_lane, SIN_COS_LANE_LIMIT};
 pub use bounds::Bounds3;
 pub use float::{gamma, hypot, offset_ray_origin, MACHINE_EPSILON};
 pub use frame::{coordinate_system, gram_schmidt, Frame};

@@ -15,7 +15,7 @@
 //! sample gives one direction with the constant density `1/S`; the
 //! rectangle is not split into triangles, and no alias table is needed.
 
-use crate::geometry::{Vec3, Vec3Lanes, LANES};
+use crate::geometry::{sin_cos, sin_cos_lane, Vec3, Vec3Lanes, LANES};
 use glam::Vec2;
 use std::f32::consts::PI;
 
@@ -127,7 +127,7 @@ impl SphericalRectangle {
     pub fn sample(&self, u: Vec2) -> Vec3 {
         // 1. xᵤ, from the area u·S of the part of the quadrilateral left
         //    of it.
-        let (sin_us, cos_us) = (u.x * self.s).sin_cos();
+        let (sin_us, cos_us) = sin_cos(u.x * self.s);
         let (cos_au, sin_au) = (cos_us * self.k.x - sin_us * self.k.y, cos_us * self.k.y + sin_us * self.k.x);
         let fu = (cos_au * self.b0 - self.b1) / sin_au;
         let cu = if fu.is_finite() { (1.0 / (fu * fu + self.b0 * self.b0).sqrt()).copysign(fu) } else { 0.0 };
@@ -238,10 +238,9 @@ impl SphericalRectangle {
                 (g23[0][j], g23[1][j]) = g;
                 (e_s[0][j], e_s[1][j]) = e;
             }
-            // The angle excess (the library's `atan2`, lane by lane), and
-            // the sine and cosine of the first step's angle.
-            let mut sin_us = [0.0f32; W];
-            let mut cos_us = [0.0f32; W];
+            // The angle excess (the library's `atan2`, lane by lane); 0
+            // where there is nothing to sample.
+            let mut angle = [0.0f32; W];
             for j in 0..m {
                 let mut si = e_s[1][j].atan2(e_s[0][j]);
                 if si < 0.0 {
@@ -253,7 +252,17 @@ impl SphericalRectangle {
                     continue;
                 }
                 s[c + j] = si;
-                (sin_us[j], cos_us[j]) = (u0[j] * si).sin_cos();
+                angle[j] = si;
+            }
+            // The sine and cosine of the first step's angle `u·S` in
+            // `[0, 2π)` ([`sin_cos_lane`], in vector lanes), 0 in the lanes
+            // without a sample.
+            let mut sin_us = [0.0f32; W];
+            let mut cos_us = [0.0f32; W];
+            for j in 0..W {
+                let (sin, cos) = sin_cos_lane(u0[j] * angle[j]);
+                let some = angle[j] > 0.0;
+                (sin_us[j], cos_us[j]) = (if some { sin } else { 0.0 }, if some { cos } else { 0.0 });
             }
             for j in 0..W {
                 let (kx, ky) = (g23[0][j], -g23[1][j]);

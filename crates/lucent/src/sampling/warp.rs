@@ -1,8 +1,8 @@
 //! Warps: maps from uniform samples in the unit square (or interval) to
 //! points and directions with a known density.
 
-use crate::geometry::gram_schmidt;
 use crate::geometry::Vec3;
+use crate::geometry::{gram_schmidt, sin_cos};
 use glam::Vec2;
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_4, PI};
 
@@ -19,7 +19,8 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
     } else {
         (o.y, 2.0 * FRAC_PI_4 - FRAC_PI_4 * (o.x / o.y))
     };
-    r * Vec2::new(theta.cos(), theta.sin())
+    let (sin, cos) = sin_cos(theta);
+    r * Vec2::new(cos, sin)
 }
 
 /// Cosine-weighted direction on the upper (`z ≥ 0`) unit hemisphere, by
@@ -43,8 +44,8 @@ pub fn cosine_hemisphere_pdf(cos_theta: f32) -> f32 {
 pub fn uniform_sphere(u: Vec2) -> Vec3 {
     let z = 1.0 - 2.0 * u.x;
     let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * PI * u.y;
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    let (sin_phi, cos_phi) = sin_cos(2.0 * PI * u.y);
+    Vec3::new(r * cos_phi, r * sin_phi, z)
 }
 
 /// A point uniformly distributed by area over the triangle with corners
@@ -90,7 +91,7 @@ pub fn spherical_triangle([a, b, c]: [Vec3; 3], area: f32, u: Vec2) -> Option<Ve
     }
     let cos_alpha = (-n_ab.dot(n_ca)).clamp(-1.0, 1.0);
     let sin_alpha = n_ab.cross(n_ca).length().min(1.0);
-    let (sin_a, cos_a) = (u.x * area).sin_cos();
+    let (sin_a, cos_a) = sin_cos(u.x * area);
     // s = sin(Â − α), t = cos(Â − α).
     let s = sin_a * cos_alpha - cos_a * sin_alpha;
     let t = cos_a * cos_alpha + sin_a * sin_alpha;

@@ -1,6 +1,9 @@
 use super::placement::Placement;
 use super::{area_to_solid_angle, check_finite, ShapeError, ShapeHit, ShapeSample};
-use crate::geometry::{coordinate_system, gamma, group, Bounds3, Ray, Transform, Vec2, Vec3, Vec3Lanes, GROUP, LANES};
+use crate::geometry::{
+    coordinate_system, gamma, group, sin_cos, sin_cos_lane, Bounds3, Ray, Transform, Vec2, Vec3, Vec3Lanes, GROUP,
+    LANES,
+};
 use crate::mesh::VertexAttributes;
 use crate::sampling::uniform_sphere;
 use std::f32::consts::PI;
@@ -232,7 +235,8 @@ impl Sphere {
         let phi = 2.0 * PI * u.y;
         let axis = (p - center) / dc2.sqrt();
         let (s, t) = coordinate_system(axis);
-        let n = (sin_alpha * phi.cos()) * s + (sin_alpha * phi.sin()) * t + cos_alpha * axis;
+        let (sin_phi, cos_phi) = sin_cos(phi);
+        let n = (sin_alpha * cos_phi) * s + (sin_alpha * sin_phi) * t + cos_alpha * axis;
         let n = n.normalize();
         Some(ShapeSample { p: center + radius * n, n, pdf: 1.0 / (2.0 * PI * one_minus_cos_max) })
     }
@@ -392,7 +396,7 @@ impl Sphere {
                 let v = cos_theta.acos() / PI;
                 // u = φ/2π, v = θ/π of p = r (sin θ cos φ, cos θ, −sin θ sin φ).
                 let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
-                let (sin_phi, cos_phi) = phi.sin_cos();
+                let (sin_phi, cos_phi) = sin_cos(phi);
                 let dpdu = 2.0 * PI * Vec3::new(local.z, 0.0, -local.x);
                 let dpdv = PI * Vec3::new(local.y * cos_phi, -r * sin_theta, -local.y * sin_phi);
                 let (dpdu, dpdv) = tangents_or_frame(dpdu, dpdv, n);
@@ -473,8 +477,8 @@ pub(crate) fn tangents_or_frame(dpdu: Vec3, dpdv: Vec3, n: Vec3) -> (Vec3, Vec3)
 /// sample the cone ([`Sphere::samples_cone_from`]). Writes each lane's
 /// point, normal and pdf to `p_light`, `n_light` and `pdf`: the scalar
 /// function's values bit for bit (its operations in its order, with its
-/// branches as selects, so that the loop vectorises; `cos` and `sin` of
-/// the azimuth are the library's, lane by lane).
+/// branches as selects, so that the loop vectorises; the azimuth's sine
+/// and cosine by [`sin_cos_lane`], as the scalar function's).
 #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
 #[inline(always)]
 pub fn sample_cones_lanes(
@@ -488,11 +492,11 @@ pub fn sample_cones_lanes(
     pdf: &mut [f32; LANES],
 ) {
     let n = n.min(LANES);
-    // The azimuth's cosine and sine, lane by lane (the library's own).
+    // The azimuth's cosine and sine (`2π u` is within `sin_cos_lane`'s
+    // range).
     let (mut cos_phi, mut sin_phi) = ([0.0; LANES], [0.0; LANES]);
     for k in 0..n {
-        let phi = 2.0 * PI * u[1][k];
-        (cos_phi[k], sin_phi[k]) = (phi.cos(), phi.sin());
+        (sin_phi[k], cos_phi[k]) = sin_cos_lane(2.0 * PI * u[1][k]);
     }
     // The lanes a [`GROUP`] at a time (see `geometry::GROUP`).
     for c in (0..n.div_ceil(GROUP)).map(|g| g * GROUP) {

@@ -20,8 +20,7 @@
 //! then the rest of the scatter stage that every kernel shares
 //! ([`super::scatter_lanes::continue_group`]). Every line is the operation of the scalar code it
 //! replaces, in the same order, so each lane's new path state is the scalar
-//! stage's bit for bit (a test compares them over random lanes); only the
-//! cosine and sine of the disk's angle are called lane by lane. Mirrors,
+//! stage's bit for bit (a test compares them over random lanes). Mirrors,
 //! Schlick's Fresnel and every other lobe keep the scalar code.
 //!
 //! [`TrowbridgeReitz::sample_wm`]: crate::bsdf::TrowbridgeReitz::sample_wm
@@ -30,7 +29,7 @@
 use super::scatter_lanes::{GroupSample, Inputs, LobeLanes, Outputs, ScatterLanes, ScatterSet};
 use crate::bsdf::fresnel::fr_complex_lanes;
 use crate::bsdf::{reflectance_to_complex_ior, ConductorBxdf, ConductorFresnel};
-use crate::geometry::{group, Vec3Lanes, GROUP, LANES};
+use crate::geometry::{group, sin_cos_lane, Vec3Lanes, GROUP, LANES};
 use std::f32::consts::PI;
 
 /// The rough conductor lanes of one scatter stage.
@@ -117,8 +116,8 @@ impl LobeLanes for ConductorLobes {
         self.k.set(k, kappa);
     }
 
-    /// The disk's radius and angle for `sample_wm`, then the angle's
-    /// cosine and sine lane by lane (the library's own).
+    /// The disk's radius and angle for `sample_wm`, then the angle's sine
+    /// and cosine ([`sin_cos_lane`]: the angle is within `[0, 2π]`).
     #[inline(always)]
     fn prepare(&self, n: usize, input: &Inputs, out: &mut Outputs) {
         let whole = (n.div_ceil(GROUP) * GROUP).min(LANES);
@@ -126,8 +125,8 @@ impl LobeLanes for ConductorLobes {
             out.radius[k] = input.u[0][k].sqrt();
             out.theta[k] = 2.0 * PI * input.u[1][k];
         }
-        for k in 0..n {
-            (out.cos[k], out.sin[k]) = (out.theta[k].cos(), out.theta[k].sin());
+        for k in 0..whole {
+            (out.sin[k], out.cos[k]) = sin_cos_lane(out.theta[k]);
         }
     }
 

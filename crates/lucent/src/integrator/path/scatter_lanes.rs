@@ -27,9 +27,9 @@
 //!
 //! Each step is a loop over the lanes in scalar arithmetic, written
 //! without branches so that the compiler turns it into vector
-//! instructions; only the cosine and sine of the disk's angle are called
-//! lane by lane, the library's own `cos` and `sin`, so that the values are
-//! the scalar ones. Every line is the `Vec3`/`Color` operation it replaces,
+//! instructions, the cosine and sine of the disk's angle included
+//! ([`crate::geometry::sin_cos_lane`], the same function the scalar
+//! warps call). Every line is the `Vec3`/`Color` operation it replaces,
 //! in the same order: each lane's new path state is the scalar stage's bit
 //! for bit (a test compares them over random lanes; renders are
 //! byte-identical).
@@ -42,7 +42,7 @@ use crate::accel::isa;
 #[cfg(target_arch = "x86_64")]
 use crate::accel::Isa;
 use crate::bsdf::DiffuseBxdf;
-use crate::geometry::{group, set_group, Frame, Ray, Vec3Lanes, GROUP, LANES};
+use crate::geometry::{group, set_group, sin_cos_lane, Frame, Ray, Vec3Lanes, GROUP, LANES};
 use crate::integrator::RayStats;
 use crate::interaction::SurfaceInteraction;
 use crate::light::LightSampleContext;
@@ -421,8 +421,8 @@ impl LobeLanes for DiffuseLobes {
     }
 
     /// Shirley and Chiu's concentric map (`sampling::concentric_disk`):
-    /// the radius and angle of the disk point, then the angle's cosine and
-    /// sine lane by lane (the library's own).
+    /// the radius and angle of the disk point, then the angle's sine and
+    /// cosine ([`sin_cos_lane`]: the angle is within `[−π/4, 3π/4]`).
     #[inline(always)]
     fn prepare(&self, n: usize, input: &Inputs, out: &mut Outputs) {
         // (A loop over the lanes, not over groups: the loop vectoriser
@@ -440,8 +440,8 @@ impl LobeLanes for DiffuseLobes {
             out.radius[k] = den;
             out.theta[k] = if wide { FRAC_PI_4 * q } else { 2.0 * FRAC_PI_4 - FRAC_PI_4 * q };
         }
-        for k in 0..n {
-            (out.cos[k], out.sin[k]) = (out.theta[k].cos(), out.theta[k].sin());
+        for k in 0..whole {
+            (out.sin[k], out.cos[k]) = sin_cos_lane(out.theta[k]);
         }
     }
 
