@@ -98,11 +98,11 @@ pub(crate) fn merge_loose_triangles(primitives: &[Primitive]) -> Vec<Primitive> 
 /// meshes ([`merge_small_meshes`]). A mesh is its own BVH under the top
 /// level: every ray that reaches its box pays a second traversal's set-up
 /// (the ray's box and watertight forms, the root node) before its first
-/// triangle test. For a mesh of a few dozen triangles (the Veach MIS
-/// scene's plates are twelve each) that set-up is most of the mesh's cost,
-/// and its box overlaps its neighbours', so a ray enters several. Larger
-/// meshes amortise the set-up over a deep traversal, and merging would build
-/// their BVH a second time.
+/// triangle test. For a mesh of a few dozen triangles that set-up is most
+/// of the mesh's cost, and where the boxes of such meshes overlap (the
+/// walls of a room) a ray enters several; whether merging them pays is
+/// [`merging_pays`]'s question. Larger meshes amortise the set-up over a
+/// deep traversal, and merging would build their BVH a second time.
 pub(crate) const MAX_MERGED_MESH_TRIANGLES: usize = 1024;
 
 /// What a mesh's faces carry besides positions and indices: meshes are
@@ -137,7 +137,9 @@ impl MeshKind {
 /// `primitives` with the small meshes (at most
 /// [`MAX_MERGED_MESH_TRIANGLES`] triangles; untransformed, without alpha,
 /// reversed orientation or media) of each [`MeshKind`] merged into one
-/// mesh, when there are two or more of a kind. Each face keeps its own
+/// mesh, when there are two or more of a kind and the surface area
+/// heuristic says a ray pays less for the one mesh ([`merging_pays`]; the
+/// meshes are kept as they are otherwise). Each face keeps its own
 /// material and area light (through [`Primitive::with_face_materials`]
 /// and a per-face light table); its positions, normals, texture
 /// coordinates and other attributes are copied as stored, so a ray finds
