@@ -105,7 +105,7 @@ pub const SIN_COS_LANE_LIMIT: f32 = 120.0;
 /// later, from Arm's optimized-routines): in `f64`, the angle is reduced
 /// to `r = x − n π/2` with `|r| ≤ π/4` (`n` the nearest quadrant, found
 /// in 24-bit fixed point), `sin r` and `cos r` are two short polynomials
-/// ([`COS_C`], [`SIN_S`]), and the quadrant picks and signs them
+/// (`COS_C`, `SIN_S`), and the quadrant picks and signs them
 /// (`sin(r + π/2) = cos r`, `cos(r + π/2) = −sin r`). The reduction is
 /// exact but for its one final rounding (a two-part `π/2`), as the
 /// library's fused multiply-add is, so only the polynomials' rounding
