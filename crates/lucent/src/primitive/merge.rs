@@ -19,6 +19,42 @@ use std::sync::Arc;
 /// by 6%, callgrind at 200×150 and 4 spp.)
 pub(crate) const MIN_MERGED_TRIANGLES: usize = 8;
 
+/// The per-face tables of a mesh merged from several primitives: each
+/// face's material, as an index into the merged primitive's material table
+/// (one entry per distinct material, in the order they come), and its area
+/// light or [`NO_LIGHT`].
+#[derive(Default)]
+struct FaceTables {
+    table: Vec<MaterialId>,
+    material_ids: Vec<u32>,
+    lights: Vec<u32>,
+}
+
+impl FaceTables {
+    /// Add the next face.
+    fn push(&mut self, material: MaterialId, light: Option<u32>) {
+        let index = self.table.iter().position(|&x| x == material).unwrap_or_else(|| {
+            self.table.push(material);
+            self.table.len() - 1
+        });
+        self.material_ids.push(index as u32);
+        self.lights.push(light.unwrap_or(NO_LIGHT));
+    }
+
+    /// The merged primitive: `mesh`, whose faces were pushed in order, with
+    /// each face's material and area light (a per-face light table only
+    /// where some face emits). At least one face must have been pushed.
+    fn primitive(self, mesh: Mesh) -> Primitive {
+        let merged =
+            Primitive::new(Arc::new(mesh), Transform::IDENTITY, self.table[0]).with_face_materials(self.table.into());
+        if self.lights.iter().any(|&l| l != NO_LIGHT) {
+            merged.with_face_lights(self.lights.into())
+        } else {
+            merged
+        }
+    }
+}
+
 /// `primitives` with every loose triangle (a [`Shape::Triangle`] primitive)
 /// moved into a world-space [`Mesh`]: one for the flat triangles, one for
 /// the smooth ones (with per-vertex normals, carried through the inverse
@@ -53,9 +89,7 @@ pub(crate) fn merge_loose_triangles(primitives: &[Primitive]) -> Vec<Primitive> 
         }
         let mut mesh = TriangleMesh::default();
         let mut normals = Vec::new();
-        let mut table: Vec<MaterialId> = Vec::new();
-        let mut material_ids = Vec::with_capacity(group.len());
-        let mut lights = Vec::with_capacity(group.len());
+        let mut faces = FaceTables::default();
         for prim in &group {
             let Shape::Triangle(tri) = prim.shape() else { unreachable!() };
             let t = prim.transform();
@@ -66,27 +100,14 @@ pub(crate) fn merge_loose_triangles(primitives: &[Primitive]) -> Vec<Primitive> 
                 normals.extend(ns.map(|n| if identity { n } else { t.normal(n).normalize_or_zero() }));
             }
             mesh.indices.push([base, base + 1, base + 2]);
-            let m = prim.material();
-            let index = table.iter().position(|&x| x == m).unwrap_or_else(|| {
-                table.push(m);
-                table.len() - 1
-            });
-            material_ids.push(index as u32);
-            lights.push(prim.area_light().unwrap_or(NO_LIGHT));
+            faces.push(prim.material(), prim.area_light());
         }
         if smooth {
             mesh.normals = Some(normals);
         }
-        mesh.material_ids = Some(material_ids);
+        mesh.material_ids = Some(std::mem::take(&mut faces.material_ids));
         match Mesh::new(mesh) {
-            Ok(mesh) if mesh.degenerate_count() == 0 => {
-                let mut merged =
-                    Primitive::new(Arc::new(mesh), Transform::IDENTITY, table[0]).with_face_materials(table.into());
-                if lights.iter().any(|&l| l != NO_LIGHT) {
-                    merged = merged.with_face_lights(lights.into());
-                }
-                out.push(merged);
-            }
+            Ok(mesh) if mesh.degenerate_count() == 0 => out.push(faces.primitive(mesh)),
             // Degenerate once transformed, or not finite: leave them be.
             _ => out.extend(group.into_iter().cloned()),
         }
@@ -247,9 +268,7 @@ fn merged_mesh(kind: MeshKind, group: &[(Primitive, TriangleMesh)]) -> Option<Pr
         face_indices: start(kind.face_indices),
         ..TriangleMesh::default()
     };
-    let mut table: Vec<MaterialId> = Vec::new();
-    let mut material_ids = Vec::new();
-    let mut lights = Vec::new();
+    let mut faces = FaceTables::default();
     for (prim, data) in group {
         let base = u32::try_from(mesh.positions.len()).ok()?;
         base.checked_add(u32::try_from(data.positions.len()).ok()?)?;
@@ -262,22 +281,12 @@ fn merged_mesh(kind: MeshKind, group: &[(Primitive, TriangleMesh)]) -> Option<Pr
         append(&mut mesh.tangents, &data.tangents);
         append(&mut mesh.face_indices, &data.face_indices);
         for face in 0..data.indices.len() as u32 {
-            let m = prim.face_material(face);
-            let index = table.iter().position(|&x| x == m).unwrap_or_else(|| {
-                table.push(m);
-                table.len() - 1
-            });
-            material_ids.push(index as u32);
-            lights.push(prim.face_area_light(face).unwrap_or(NO_LIGHT));
+            faces.push(prim.face_material(face), prim.face_area_light(face));
         }
     }
-    mesh.material_ids = Some(material_ids);
+    mesh.material_ids = Some(std::mem::take(&mut faces.material_ids));
     let mesh = Mesh::new(mesh).ok()?.with_default_uv(kind.default_uv);
-    let mut merged = Primitive::new(Arc::new(mesh), Transform::IDENTITY, table[0]).with_face_materials(table.into());
-    if lights.iter().any(|&l| l != NO_LIGHT) {
-        merged = merged.with_face_lights(lights.into());
-    }
-    Some(merged)
+    Some(faces.primitive(mesh))
 }
 
 #[cfg(test)]
