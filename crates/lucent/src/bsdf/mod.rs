@@ -446,6 +446,30 @@ impl Bsdf {
         Self { frame: Frame::from_z(ns), bxdf }
     }
 
+    /// The diffuse `lobe` on a surface with unit shading normal `ns` and
+    /// tangent `dpdu`, its frame left unfinished: [`Bsdf::new`]'s
+    /// Gram–Schmidt (a square root and a division, one after the other) is
+    /// left to the path integrator's diffuse scatter kernel, which makes the
+    /// frames of all its lanes at once with [`shading_frame`]'s operations.
+    ///
+    /// Until then the frame's `z` is `ns`, its `x` holds `dpdu` as given and
+    /// its `y` is zero, which no finished frame has
+    /// ([`Bsdf::frame_pending`]). The diffuse lobe's value and pdf read only
+    /// the local `z` of the two directions (their cosines with `ns`), so
+    /// [`Bsdf::f`] and [`Bsdf::pdf`] are already exact on it; sampling needs
+    /// the finished frame and must not be asked of it.
+    #[inline]
+    pub(crate) fn diffuse_unframed(ns: Vec3, dpdu: Vec3, lobe: DiffuseBxdf) -> Self {
+        Self { frame: Frame { x: dpdu, y: Vec3::ZERO, z: ns }, bxdf: Bxdf::Diffuse(lobe) }
+    }
+
+    /// Whether the frame is unfinished ([`Bsdf::diffuse_unframed`]): its
+    /// `x` is the surface's ∂p/∂u as given.
+    #[inline]
+    pub(crate) fn frame_pending(&self) -> bool {
+        self.frame.y == Vec3::ZERO
+    }
+
     /// The shading frame (`z` is the shading normal).
     pub fn frame(&self) -> &Frame {
         &self.frame
@@ -470,6 +494,7 @@ impl Bsdf {
     /// Sample a world-space incident direction.
     #[inline]
     pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
+        debug_assert!(!self.frame_pending(), "sampling a BSDF whose frame is unfinished");
         let mut s = self.bxdf.sample_f(self.frame.to_local(wo), uc, u)?;
         s.wi = self.frame.from_local(s.wi);
         Some(s)
@@ -506,6 +531,7 @@ impl Bsdf {
     /// [`Bsdf::f_mode`]).
     #[inline]
     pub fn sample_f_mode(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        debug_assert!(!self.frame_pending(), "sampling a BSDF whose frame is unfinished");
         let o = self.frame.to_local(wo);
         let mut s = self.bxdf.sample_f(o, uc, u)?;
         if mode == TransportMode::Importance {

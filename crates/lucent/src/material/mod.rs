@@ -545,6 +545,20 @@ impl Material {
         Some(Bsdf::new(r.shading.ns, r.shading.dpdu, r.material.bxdf_at(&tc)))
     }
 
+    /// [`Material::bsdf_at`] for the path integrator's lanes: a diffuse
+    /// BSDF comes with its frame unfinished ([`Bsdf::diffuse_unframed`]),
+    /// to be made by the diffuse scatter kernel with those of the other
+    /// lanes; every other BSDF is [`Material::bsdf_at`]'s.
+    #[inline(always)]
+    pub(crate) fn bsdf_at_unframed(&self, ctx: &MaterialContext, materials: &[Material]) -> Option<Bsdf> {
+        let r = self.resolve(ctx, materials)?;
+        let tc = ctx.texture_context();
+        Some(match r.material.bxdf_at(&tc) {
+            Bxdf::Diffuse(lobe) => Bsdf::diffuse_unframed(r.shading.ns, r.shading.dpdu, lobe),
+            bxdf => Bsdf::new(r.shading.ns, r.shading.dpdu, bxdf),
+        })
+    }
+
     /// The scattering function of the path integrator at a point with
     /// texture coordinates `uv` (textures that need a position see the
     /// origin): [`Material::bxdf_at`] of [`TextureContext::from_uv`].

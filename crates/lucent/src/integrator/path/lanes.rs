@@ -347,6 +347,8 @@ impl PathIntegrator {
                 // (A kernel's buffers are made on its first lane.)
                 match bsdf.bxdf() {
                     Bxdf::Diffuse(lobe) => {
+                        // (Its frame unfinished: the kernel makes it.)
+                        debug_assert!(bsdf.frame_pending());
                         let kernel = diffuse.get_or_insert_with(DiffuseLanes::new);
                         kernel.take(lane, &paths[i], si, bsdf.frame(), lobe, &u[i]);
                     }
@@ -455,9 +457,11 @@ impl PathIntegrator {
             }
         }
         // The material at the hit; an interface is no surface: go on
-        // through it without counting a bounce.
+        // through it without counting a bounce. (A diffuse BSDF's frame is
+        // left to the diffuse scatter kernel, which makes those of all its
+        // lanes at once: `Bsdf::diffuse_unframed`.)
         let mctx = material_context(si, wo);
-        *bsdf = scene.material(si.material).bsdf_at(&mctx, scene.materials());
+        *bsdf = scene.material(si.material).bsdf_at_unframed(&mctx, scene.materials());
         let Some(bsdf) = bsdf.as_mut() else {
             path.skips += 1;
             if path.skips > MAX_INTERFACE_SKIPS {

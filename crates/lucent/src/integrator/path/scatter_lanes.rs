@@ -2,12 +2,16 @@
 //! vertex of most scenes.
 //!
 //! The scatter stage of [`super::lanes`] gathers the lanes whose BSDF is a
-//! plain diffuse lobe into structure of arrays (the shading frame, the
-//! direction the path came from, the albedo, the throughput, the surface
-//! point with its error bounds and normal, and the vertex's samples), and
-//! runs for all of them at once what the path integrator's scalar scatter
-//! stage (`PathIntegrator::scatter`) runs for one:
+//! plain diffuse lobe into structure of arrays (the shading normal and
+//! ∂p/∂u, the direction the path came from, the albedo, the throughput,
+//! the surface point with its error bounds and normal, and the vertex's
+//! samples), and runs for all of them at once what the path integrator's
+//! scalar scatter stage (`PathIntegrator::scatter`) runs for one:
 //!
+//! 0. the shading frame, by Gram–Schmidt (`Bsdf::new`'s, which the
+//!    diffuse lanes' BSDFs skip: `Bsdf::diffuse_unframed`; one lane at a
+//!    time its square root and division, waiting on each other, were
+//!    about 3.5% of the Cornell box's time);
 //! 1. the cosine-weighted direction of [`DiffuseBxdf::sample_f`]
 //!    (Shirley and Chiu's concentric map of the square onto the disk,
 //!    lifted onto the hemisphere by Malley's method; PBRT 4th ed.,
@@ -41,6 +45,8 @@ use super::RR_DEPTH;
 use crate::accel::isa;
 #[cfg(target_arch = "x86_64")]
 use crate::accel::Isa;
+#[cfg(doc)]
+use crate::bsdf::shading_frame;
 use crate::bsdf::DiffuseBxdf;
 use crate::geometry::{group, set_group, sin_cos_lane, Frame, Ray, Vec3Lanes, GROUP, LANES};
 use crate::integrator::RayStats;
@@ -446,14 +452,16 @@ impl LobeLanes for DiffuseLobes {
     }
 
     /// `DiffuseBxdf::sample_f` of each lane of the group, and its value
-    /// `R/π`.
+    /// `R/π`. The lanes' frames come unfinished (`Bsdf::diffuse_unframed`:
+    /// `fx` holds ∂p/∂u, `fz` the shading normal) and are made here first,
+    /// with [`shading_frame`]'s operations.
     #[allow(clippy::needless_range_loop)]
     #[inline(always)]
     fn sample_group(&self, c: usize, input: &Inputs, out: &Outputs) -> GroupSample {
         let (u0, u1) = (group(&input.u[0], c), group(&input.u[1], c));
         let (radius, cos, sin) = (group(&out.radius, c), group(&out.cos, c), group(&out.sin, c));
-        let ([fxx, fxy, fxz], [fyx, fyy, fyz], [fzx, fzy, fzz]) =
-            (input.fx.group(c), input.fy.group(c), input.fz.group(c));
+        let ([fxx, fxy, fxz], [fyx, fyy, fyz]) = shading_frames(input.fx.group(c), input.fz.group(c));
+        let [fzx, fzy, fzz] = input.fz.group(c);
         let ([wox, woy, woz], [rx, ry, rz]) = (input.wo.group(c), self.albedo.group(c));
         let mut s = GroupSample::ZERO;
         for j in 0..GROUP {
@@ -481,6 +489,40 @@ impl LobeLanes for DiffuseLobes {
         }
         s
     }
+}
+
+/// The tangents `x` and `y` of [`shading_frame`]`(ns, dpdu)` for a group
+/// of lanes: `dpdu` made orthogonal to the unit normal `ns` and
+/// normalised, and `ns × x`; where `dpdu` is not finite, zero or (nearly)
+/// parallel to `ns`, those of `Frame::from_z(ns)` (`coordinate_system`).
+/// Each line is the `Vec3` operation it replaces, in the same order (the
+/// dot products `(x + y) + z`), so each lane's frame is the scalar one bit
+/// for bit.
+#[inline(always)]
+fn shading_frames(dpdu: [[f32; GROUP]; 3], ns: [[f32; GROUP]; 3]) -> ([[f32; GROUP]; 3], [[f32; GROUP]; 3]) {
+    let ([tx, ty, tz], [nx, ny, nz]) = (dpdu, ns);
+    let (mut x, mut y) = ([[0.0; GROUP]; 3], [[0.0; GROUP]; 3]);
+    for j in 0..GROUP {
+        // Gram–Schmidt: `dpdu − ns (ns · dpdu)`, normalised.
+        let d = nx[j] * tx[j] + ny[j] * ty[j] + nz[j] * tz[j];
+        let (gx, gy, gz) = (tx[j] - nx[j] * d, ty[j] - ny[j] * d, tz[j] - nz[j] * d);
+        let len2 = gx * gx + gy * gy + gz * gz;
+        let dpdu2 = tx[j] * tx[j] + ty[j] * ty[j] + tz[j] * tz[j];
+        let usable = !(!len2.is_finite() | (len2 <= 1e-12 * dpdu2));
+        let len = len2.sqrt();
+        let (gx, gy, gz) = (gx / len, gy / len, gz / len);
+        // `ns × x`.
+        let (hx, hy, hz) = (ny[j] * gz - nz[j] * gy, nz[j] * gx - nx[j] * gz, nx[j] * gy - ny[j] * gx);
+        // `coordinate_system(ns)`.
+        let sign = 1.0f32.copysign(nz[j]);
+        let a = -1.0 / (sign + nz[j]);
+        let b = nx[j] * ny[j] * a;
+        let (cx, cy, cz) = (1.0 + sign * nx[j] * nx[j] * a, sign * b, -sign * nx[j]);
+        let (ex, ey, ez) = (b, sign + ny[j] * ny[j] * a, -ny[j]);
+        (x[0][j], x[1][j], x[2][j]) = if usable { (gx, gy, gz) } else { (cx, cy, cz) };
+        (y[0][j], y[1][j], y[2][j]) = if usable { (hx, hy, hz) } else { (ex, ey, ez) };
+    }
+    (x, y)
 }
 
 #[cfg(test)]
@@ -611,7 +653,18 @@ pub(super) mod tests {
     /// A random lane with a diffuse BSDF, with the corner cases of the
     /// concentric map and of the throughput mixed in.
     fn lane(rng: &mut Pcg32, k: usize) -> Lane {
-        let (mut path, si) = random_vertex(rng, k);
+        let (mut path, mut si) = random_vertex(rng, k);
+        // Tangents that `shading_frame` rejects for `Frame::from_z`'s:
+        // zero, parallel to the normal (and nearly), not finite.
+        match k % 19 {
+            0 => si.dpdu = Vec3::ZERO,
+            1 => si.dpdu = si.ns * 3.0,
+            2 => si.dpdu = si.ns * 0.5 + Vec3::splat(1e-7),
+            3 => si.dpdu = Vec3::new(f32::INFINITY, 1.0, 0.0),
+            4 => si.dpdu = Vec3::new(f32::NAN, 1.0, 0.0),
+            5 => si.dpdu = si.ns * 1e30,
+            _ => {}
+        }
         let (ns, dpdu) = (si.ns, si.dpdu);
         let mut r = Color::new(rng.uniform(), rng.uniform(), rng.uniform());
         if k % 11 == 0 {
@@ -641,7 +694,10 @@ pub(super) mod tests {
     /// The kernel gives each lane the path state that the scalar scatter
     /// stage gives it, bit for bit, over random lanes in batches of 1 to 64,
     /// with roulette and without; and the portable build equals the build
-    /// for this CPU ([`scatter_and_check`]).
+    /// for this CPU ([`scatter_and_check`]). The kernel takes each lane's
+    /// BSDF with its frame unfinished, as the path integrator gives it
+    /// (`Bsdf::diffuse_unframed`), and makes the frame that the scalar
+    /// stage's `Bsdf::new` made, unusable tangents included.
     #[test]
     fn diffuse_lanes_equal_the_scalar_scatter() {
         let mut rng = Pcg32::new(11, 5);
@@ -652,7 +708,9 @@ pub(super) mod tests {
             let mut kernel = DiffuseLanes::new();
             for (k, (path, si, bsdf, u)) in lanes.iter().enumerate() {
                 let Bxdf::Diffuse(lobe) = bsdf.bxdf() else { panic!("lane {k} is not diffuse") };
-                kernel.take(k as u8, path, si, bsdf.frame(), lobe, u);
+                let unframed = Bsdf::diffuse_unframed(si.ns, si.dpdu, *lobe);
+                assert!(unframed.frame_pending() && !bsdf.frame_pending());
+                kernel.take(k as u8, path, si, unframed.frame(), lobe, u);
             }
             went_on += scatter_and_check(&lanes, &mut kernel).0;
         }
