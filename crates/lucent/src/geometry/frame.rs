@@ -1,5 +1,6 @@
 //! Orthonormal bases: the one construction of a basis around a unit vector
-//! ([`coordinate_system`]), the [`Frame`] built from it, and Gram–Schmidt
+//! ([`coordinate_system`], and [`coordinate_system_lane`] for vector
+//! lanes), the [`Frame`] built from it, and Gram–Schmidt
 //! orthogonalisation.
 
 use super::Vec3;
@@ -12,10 +13,29 @@ use super::Vec3;
 /// `CoordinateSystem`).
 #[inline]
 pub fn coordinate_system(n: Vec3) -> (Vec3, Vec3) {
-    let sign = 1.0f32.copysign(n.z);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    (Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3::new(b, sign + n.y * n.y * a, -n.y))
+    let (s, t) = coordinate_system_lane([n.x, n.y, n.z]);
+    (Vec3::from_array(s), Vec3::from_array(t))
+}
+
+/// [`coordinate_system`] on plain coordinates, without a branch, so that
+/// a loop of it over many lanes compiles to vector code (the kernels that
+/// build frames across lanes call it; one lane's value is the scalar
+/// one's).
+///
+/// ```
+/// use lucent::geometry::{coordinate_system, coordinate_system_lane, Vec3};
+///
+/// let n = Vec3::new(0.6, 0.0, -0.8);
+/// let (s, t) = coordinate_system_lane(n.to_array());
+/// assert_eq!((Vec3::from_array(s), Vec3::from_array(t)), coordinate_system(n));
+/// assert!(Vec3::from_array(s).dot(n).abs() < 1e-6);
+/// ```
+#[inline(always)]
+pub fn coordinate_system_lane([x, y, z]: [f32; 3]) -> ([f32; 3], [f32; 3]) {
+    let sign = 1.0f32.copysign(z);
+    let a = -1.0 / (sign + z);
+    let b = x * y * a;
+    ([1.0 + sign * x * x * a, sign * b, -sign * x], [b, sign + y * y * a, -y])
 }
 
 /// `v` made orthogonal to the unit vector `w` and normalised (one

@@ -16,7 +16,7 @@ mod transform;
 pub use angle::{atan2, sin_cos, sin_cos_lane, SIN_COS_LANE_LIMIT};
 pub use bounds::Bounds3;
 pub use float::{gamma, hypot, offset_ray_origin, MACHINE_EPSILON};
-pub use frame::{coordinate_system, gram_schmidt, Frame};
+pub use frame::{coordinate_system, coordinate_system_lane, gram_schmidt, Frame};
 pub use lanes::{group, set_group, Vec3Lanes, GROUP, LANES};
 pub use ray::Ray;
 pub use transform::{Transform, TransformError};

@@ -1,8 +1,8 @@
 use super::placement::Placement;
 use super::{area_to_solid_angle, check_finite, ShapeError, ShapeHit, ShapeSample};
 use crate::geometry::{
-    coordinate_system, gamma, group, sin_cos, sin_cos_lane, Bounds3, Ray, Transform, Vec2, Vec3, Vec3Lanes, GROUP,
-    LANES,
+    coordinate_system, coordinate_system_lane, gamma, group, sin_cos, sin_cos_lane, Bounds3, Ray, Transform, Vec2,
+    Vec3, Vec3Lanes, GROUP, LANES,
 };
 use crate::mesh::VertexAttributes;
 use crate::sampling::uniform_sphere;
@@ -524,11 +524,7 @@ pub fn sample_cones_lanes(
             // `coordinate_system` about it.
             let l = dc2.sqrt();
             let (ax, ay, az) = ((px[j] - cx[j]) / l, (py[j] - cy[j]) / l, (pz[j] - cz[j]) / l);
-            let sign = 1.0f32.copysign(az);
-            let a = -1.0 / (sign + az);
-            let b = ax * ay * a;
-            let (sx, sy, sz) = (1.0 + sign * ax * ax * a, sign * b, -sign * ax);
-            let (tx, ty, tz) = (b, sign + ay * ay * a, -ay);
+            let ([sx, sy, sz], [tx, ty, tz]) = coordinate_system_lane([ax, ay, az]);
             let (k_s, k_t) = (sin_alpha * cos_phi[j], sin_alpha * sin_phi[j]);
             let (nx, ny, nz) = (
                 k_s * sx + k_t * tx + cos_alpha * ax,

@@ -48,7 +48,7 @@ use crate::accel::Isa;
 #[cfg(doc)]
 use crate::bsdf::shading_frame;
 use crate::bsdf::DiffuseBxdf;
-use crate::geometry::{group, set_group, sin_cos_lane, Frame, Ray, Vec3Lanes, GROUP, LANES};
+use crate::geometry::{coordinate_system_lane, group, set_group, sin_cos_lane, Frame, Ray, Vec3Lanes, GROUP, LANES};
 use crate::integrator::RayStats;
 use crate::interaction::SurfaceInteraction;
 use crate::light::LightSampleContext;
@@ -513,12 +513,8 @@ fn shading_frames(dpdu: [[f32; GROUP]; 3], ns: [[f32; GROUP]; 3]) -> ([[f32; GRO
         let (gx, gy, gz) = (gx / len, gy / len, gz / len);
         // `ns × x`.
         let (hx, hy, hz) = (ny[j] * gz - nz[j] * gy, nz[j] * gx - nx[j] * gz, nx[j] * gy - ny[j] * gx);
-        // `coordinate_system(ns)`.
-        let sign = 1.0f32.copysign(nz[j]);
-        let a = -1.0 / (sign + nz[j]);
-        let b = nx[j] * ny[j] * a;
-        let (cx, cy, cz) = (1.0 + sign * nx[j] * nx[j] * a, sign * b, -sign * nx[j]);
-        let (ex, ey, ez) = (b, sign + ny[j] * ny[j] * a, -ny[j]);
+        // `Frame::from_z(ns)`.
+        let ([cx, cy, cz], [ex, ey, ez]) = coordinate_system_lane([nx[j], ny[j], nz[j]]);
         (x[0][j], x[1][j], x[2][j]) = if usable { (gx, gy, gz) } else { (cx, cy, cz) };
         (y[0][j], y[1][j], y[2][j]) = if usable { (hx, hy, hz) } else { (ex, ey, ez) };
     }
