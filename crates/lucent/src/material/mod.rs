@@ -540,9 +540,16 @@ impl Material {
     /// (normal and ∂p/∂u). `None` for an interface.
     #[inline(always)]
     pub fn bsdf_at(&self, ctx: &MaterialContext, materials: &[Material]) -> Option<Bsdf> {
+        let (shading, bxdf) = self.shading_and_bxdf(ctx, materials)?;
+        Some(Bsdf::new(shading.ns, shading.dpdu, bxdf))
+    }
+
+    /// What both BSDF constructors start from: [`Material::resolve`]'s
+    /// shading geometry and the resolved material's [`Material::bxdf_at`].
+    #[inline(always)]
+    fn shading_and_bxdf(&self, ctx: &MaterialContext, materials: &[Material]) -> Option<(ShadingGeometry, Bxdf)> {
         let r = self.resolve(ctx, materials)?;
-        let tc = ctx.texture_context();
-        Some(Bsdf::new(r.shading.ns, r.shading.dpdu, r.material.bxdf_at(&tc)))
+        Some((r.shading, r.material.bxdf_at(&ctx.texture_context())))
     }
 
     /// [`Material::bsdf_at`] for the path integrator's lanes: a diffuse
@@ -551,11 +558,10 @@ impl Material {
     /// lanes; every other BSDF is [`Material::bsdf_at`]'s.
     #[inline(always)]
     pub(crate) fn bsdf_at_unframed(&self, ctx: &MaterialContext, materials: &[Material]) -> Option<Bsdf> {
-        let r = self.resolve(ctx, materials)?;
-        let tc = ctx.texture_context();
-        Some(match r.material.bxdf_at(&tc) {
-            Bxdf::Diffuse(lobe) => Bsdf::diffuse_unframed(r.shading.ns, r.shading.dpdu, lobe),
-            bxdf => Bsdf::new(r.shading.ns, r.shading.dpdu, bxdf),
+        let (shading, bxdf) = self.shading_and_bxdf(ctx, materials)?;
+        Some(match bxdf {
+            Bxdf::Diffuse(lobe) => Bsdf::diffuse_unframed(shading.ns, shading.dpdu, lobe),
+            bxdf => Bsdf::new(shading.ns, shading.dpdu, bxdf),
         })
     }
 
