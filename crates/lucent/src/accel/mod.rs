@@ -10,15 +10,9 @@
 mod bvh;
 mod light_buffer;
 mod pages;
-mod simd;
 
+pub use crate::geometry::traversal_isa;
 pub(crate) use pages::{PageArray, ZeroIsValid};
-#[cfg(all(test, target_arch = "x86_64"))]
-pub(crate) use simd::detect as simd_detected;
-pub(crate) use simd::isa;
-pub use simd::traversal_isa;
-#[cfg(target_arch = "x86_64")]
-pub(crate) use simd::Isa;
 
 pub use bvh::{BoxRay, Bvh, BvhNode, MAX_LEAF_SIZE, WIDTH};
 pub use light_buffer::LightBuffer;

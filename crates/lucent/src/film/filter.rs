@@ -36,7 +36,7 @@
 //! `xradius` and `yradius`, lucent's filters are square.
 
 #[cfg(target_arch = "x86_64")]
-use crate::accel::{isa, Isa};
+use crate::geometry::{isa, Isa};
 use crate::sampling::tent;
 use glam::Vec2;
 

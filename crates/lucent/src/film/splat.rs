@@ -83,7 +83,7 @@ impl SplatBand {
             wx: vec![0.0; ((2.0 * radius).ceil() as usize).saturating_add(2).min(width as usize)],
             wy: vec![0.0; ((2.0 * radius).ceil() as usize).saturating_add(2).min(height as usize)],
             #[cfg(target_arch = "x86_64")]
-            avx2: crate::accel::isa() >= crate::accel::Isa::Avx2,
+            avx2: crate::geometry::isa() >= crate::geometry::Isa::Avx2,
         }
     }
 

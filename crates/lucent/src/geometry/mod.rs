@@ -11,6 +11,7 @@ mod float;
 mod frame;
 mod lanes;
 mod ray;
+mod simd;
 mod transform;
 
 pub use angle::{atan2, sin_cos, sin_cos_lane, SIN_COS_LANE_LIMIT};
@@ -19,6 +20,12 @@ pub use float::{gamma, hypot, offset_ray_origin, MACHINE_EPSILON};
 pub use frame::{coordinate_system, coordinate_system_lane, gram_schmidt, Frame};
 pub use lanes::{group, set_group, Vec3Lanes, GROUP, LANES};
 pub use ray::Ray;
+#[cfg(all(test, target_arch = "x86_64"))]
+pub(crate) use simd::detect as simd_detected;
+pub(crate) use simd::isa;
+pub use simd::traversal_isa;
+#[cfg(target_arch = "x86_64")]
+pub(crate) use simd::Isa;
 pub use transform::{Transform, TransformError};
 
 /// The renderer's 3-vector (points, directions, normals): glam's `Vec3A`,

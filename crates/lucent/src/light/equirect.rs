@@ -3,9 +3,9 @@
 //! [`super::environment`]'s module docs), with the solid-angle density it
 //! gives, one direction at a time and across vector lanes.
 
-use crate::accel::isa;
+use crate::geometry::isa;
 #[cfg(target_arch = "x86_64")]
-use crate::accel::Isa;
+use crate::geometry::Isa;
 use crate::geometry::{atan2, Vec2, Vec3, Vec3Lanes, LANES};
 use std::f32::consts::PI;
 

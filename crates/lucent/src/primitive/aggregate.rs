@@ -6,9 +6,9 @@
 //! tested against.
 
 use super::Primitive;
-#[cfg(target_arch = "x86_64")]
-use crate::accel::{isa, Isa};
 use crate::accel::{BoxRay, Bvh, LightBuffer};
+#[cfg(target_arch = "x86_64")]
+use crate::geometry::{isa, Isa};
 use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::interaction::SurfaceInteraction;
 
@@ -140,7 +140,7 @@ fn closest_of(prims: &[Primitive], ray: &Ray, t_max: &mut f32, closest: &mut Opt
 }
 
 impl BvhAggregate {
-    /// [`Aggregate::intersect`] compiled for AVX2 (see `accel::simd`).
+    /// [`Aggregate::intersect`] compiled for AVX2 (see `geometry::simd`).
     ///
     /// # Safety
     /// The CPU must have AVX2.
@@ -151,7 +151,7 @@ impl BvhAggregate {
         unsafe { self.intersect_as::<true, 2>(ray, t_max, closest) }
     }
 
-    /// [`Aggregate::intersect`] compiled for AVX-512 (see `accel::simd`).
+    /// [`Aggregate::intersect`] compiled for AVX-512 (see `geometry::simd`).
     ///
     /// # Safety
     /// The CPU must have the features of `Isa::Avx512`.
@@ -173,7 +173,7 @@ impl BvhAggregate {
         unsafe { self.intersect_p_as::<true, 2>(ray, t_max) }
     }
 
-    /// [`Aggregate::intersect_p`] compiled for AVX-512 (see `accel::simd`).
+    /// [`Aggregate::intersect_p`] compiled for AVX-512 (see `geometry::simd`).
     ///
     /// # Safety
     /// The CPU must have the features of `Isa::Avx512`.
@@ -528,8 +528,8 @@ mod tests {
     #[test]
     fn simd_queries_equal_portable_ones() {
         #[cfg(target_arch = "x86_64")]
-        if crate::accel::simd_detected() >= Isa::Avx2 {
-            let avx512 = crate::accel::simd_detected() == Isa::Avx512;
+        if crate::geometry::simd_detected() >= Isa::Avx2 {
+            let avx512 = crate::geometry::simd_detected() == Isa::Avx512;
             let mut rng = Pcg32::new(8, 8);
             let v = random_point;
             let m = MaterialId::new(0);

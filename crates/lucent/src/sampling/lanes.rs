@@ -7,27 +7,46 @@
 //! every path. Sixteen paths' values are therefore computed as sixteen
 //! lanes of vector code ([`sobol_vertices`]), with the lanes laid out
 //! structure-of-arrays so that the compiler turns each step into one
-//! instruction over all lanes (`vpmulld`, `vpaddd`, `vpxor` in the AVX2
-//! build). The values are those of [`Sampler::vertex`] bit for bit: the
-//! arithmetic is integer, and the same.
+//! instruction over all lanes (`vpmulld`, `vpaddd`, `vpxor`). The values
+//! are those of [`Sampler::vertex`] bit for bit: the arithmetic is
+//! integer, and the same.
 //!
-//! There is no AVX-512 build: one (with GFNI's `vgf2p8affineqb` for the bit
-//! reversals) ran the Cornell box 5% slower than the AVX2 build on a Zen 4
-//! (issue 32's audit of the `unsafe` code, `docs/reliability.md`).
+//! The kernel also hashes each lane's scramble seeds from (pixel,
+//! dimension) itself, rather than reading them from the lane's sampler,
+//! where they are kept for one-at-a-time draws: gathering fifteen seeds a
+//! lane from sixty-four samplers' tables into the kernel's lanes, most of
+//! it cache misses and scalar stores, and hashing the seeds the tables
+//! lacked cost more than the hashes in vector code (in the Cornell box at
+//! 512², 16 spp, the sampler's functions went from 8.8% of the render to
+//! 5.6%). The hash is
+//! two SplitMix64 rounds, whose 64-bit multiplications AVX-512 DQ does in
+//! one instruction (`vpmullq`), hence the AVX-512 build; AVX2 makes each of
+//! them from three 32-bit ones, and its build of the kernel, with the
+//! hashes, is as fast as it was with the tables (`docs/performance.md`,
+//! twenty-ninth sitting). An earlier AVX-512 build without the hashes, with
+//! GFNI's `vgf2p8affineqb` for the bit reversals, had been 5% slower than
+//! the AVX2 one (`docs/reliability.md`).
 
-use super::sampler::{lk_premix, lk_seeded, sobol_1_reversed, to_unit_float, Sampler, SamplerKind, VertexSamples};
+use super::sampler::{
+    dimension_hash_xy, dimension_hash_y, lk_premix, lk_seeded, sobol_1_reversed, to_unit_float, Sampler, SamplerKind,
+    VertexSamples,
+};
+use crate::geometry::isa;
+#[cfg(target_arch = "x86_64")]
+use crate::geometry::Isa;
 use glam::Vec2;
 
 /// Paths whose Sobol values one kernel call computes.
 const KERNEL_LANES: usize = 16;
 
 /// The inputs of [`sobol_vertices`], lane by lane: each path's premixed
-/// sample index, and for each of the vertex's five dimensions its three
-/// scramble seeds (index shuffle, first and second coordinate).
+/// sample index, its pixel's hash and the vertex's first dimension
+/// ([`Sampler::sobol_vertex_state`]).
 #[derive(Clone, Copy, Default)]
 struct SobolLanes {
     index_premixed: [u32; KERNEL_LANES],
-    seeds: [[[u32; KERNEL_LANES]; 3]; 5],
+    pixel_hash: [u64; KERNEL_LANES],
+    dimension: [u32; KERNEL_LANES],
 }
 
 /// The seven values of a vertex, lane by lane, in [`Sampler::vertex`]'s
@@ -50,13 +69,10 @@ impl Sampler {
             }
             let mut input = SobolLanes::default();
             for (k, &lane) in group.iter().enumerate().take(KERNEL_LANES) {
-                let (index_premixed, seeds) = samplers[lane as usize].sobol_vertex_state();
+                let (index_premixed, pixel_hash, dimension) = samplers[lane as usize].sobol_vertex_state();
                 input.index_premixed[k] = index_premixed;
-                for (d, seeds) in seeds.iter().enumerate() {
-                    for (c, &seed) in seeds.iter().enumerate() {
-                        input.seeds[d][c][k] = seed;
-                    }
-                }
+                input.pixel_hash[k] = pixel_hash;
+                input.dimension[k] = dimension;
             }
             let values = sobol_vertices(&input);
             for (slot, &lane) in group.iter().enumerate() {
@@ -77,27 +93,43 @@ impl Sampler {
 /// runs (all give the same bits).
 #[inline]
 fn sobol_vertices(input: &SobolLanes) -> VertexValues {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has the features the build is compiled for.
-            return unsafe { sobol_vertices_avx2(input) };
-        }
+    match isa() {
+        // SAFETY: `isa` found the features of `Isa::Avx512`.
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx512 => unsafe { sobol_vertices_avx512(input) },
+        // SAFETY: `isa` found the features of `Isa::Avx2`.
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx2 => unsafe { sobol_vertices_avx2(input) },
+        _ => sobol_vertices_portable(input),
     }
-    sobol_vertices_portable(input)
 }
 
 /// [`sobol_vertices_portable`] compiled for AVX2.
 ///
 /// # Safety
-/// The CPU must have AVX2.
+/// The CPU must have the features of `Isa::Avx2`.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
 unsafe fn sobol_vertices_avx2(input: &SobolLanes) -> VertexValues {
     sobol_vertices_portable(input)
 }
 
-/// The definition: for each dimension, the shuffled index
+/// [`sobol_vertices_portable`] compiled for AVX-512, whose DQ extension
+/// multiplies 64-bit lanes in one instruction (`vpmullq`), as the seeds'
+/// hash does; AVX2 has no such multiply and builds it from three 32-bit
+/// ones.
+///
+/// # Safety
+/// The CPU must have the features of `Isa::Avx512`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
+unsafe fn sobol_vertices_avx512(input: &SobolLanes) -> VertexValues {
+    sobol_vertices_portable(input)
+}
+
+/// The definition: for each of the five dimensions `d`, its scramble seeds
+/// hashed from (pixel, `d`) ([`dimension_hash_xy`], and
+/// [`dimension_hash_y`] for the 2D ones), the shuffled index
 /// `j = reverse(lk_seeded(index_premixed, h_index))`, its first coordinate
 /// `reverse(lk_seeded(lk_premix(j), h_x))`, and for the two 2D dimensions
 /// its second, `reverse(lk_seeded(lk_premix(sobol_1_reversed(j)), h_y))`
@@ -107,19 +139,25 @@ unsafe fn sobol_vertices_avx2(input: &SobolLanes) -> VertexValues {
 fn sobol_vertices_portable(input: &SobolLanes) -> VertexValues {
     let mut out = [[0.0f32; KERNEL_LANES]; 7];
     let mut o = 0;
-    for (d, [h_index, h_x, h_y]) in input.seeds.iter().enumerate() {
-        let mut j = [0u32; KERNEL_LANES];
-        for ((j, &ip), &h) in j.iter_mut().zip(&input.index_premixed).zip(h_index) {
-            *j = lk_seeded(ip, h).reverse_bits();
+    for k in 0..5u32 {
+        // The seeds: index shuffle (low half) and first coordinate (high).
+        let mut h = [0u64; KERNEL_LANES];
+        for ((h, &ph), &d) in h.iter_mut().zip(&input.pixel_hash).zip(&input.dimension) {
+            *h = dimension_hash_xy(ph, d.wrapping_add(k));
         }
-        for ((v, &j), &h) in out[o].iter_mut().zip(&j).zip(h_x) {
-            *v = to_unit_float(lk_seeded(lk_premix(j), h).reverse_bits());
+        let mut j = [0u32; KERNEL_LANES];
+        for ((j, &ip), &h) in j.iter_mut().zip(&input.index_premixed).zip(&h) {
+            *j = lk_seeded(ip, h as u32).reverse_bits();
+        }
+        for ((v, &j), &h) in out[o].iter_mut().zip(&j).zip(&h) {
+            *v = to_unit_float(lk_seeded(lk_premix(j), (h >> 32) as u32).reverse_bits());
         }
         o += 1;
         // Dimensions 1 (point on the light) and 3 (direction) are 2D.
-        if d == 1 || d == 3 {
-            for ((v, &j), &h) in out[o].iter_mut().zip(&j).zip(h_y) {
-                *v = to_unit_float(lk_seeded(lk_premix(sobol_1_reversed(j)), h).reverse_bits());
+        if k == 1 || k == 3 {
+            for ((v, &j), &h) in out[o].iter_mut().zip(&j).zip(&h) {
+                let h_y = dimension_hash_y(h);
+                *v = to_unit_float(lk_seeded(lk_premix(sobol_1_reversed(j)), h_y).reverse_bits());
             }
             o += 1;
         }
@@ -183,18 +221,23 @@ mod tests {
             let mut input = SobolLanes::default();
             for l in 0..KERNEL_LANES {
                 input.index_premixed[l] = rng.next_u32();
-                for d in 0..5 {
-                    for c in 0..3 {
-                        input.seeds[d][c][l] = rng.next_u32();
-                    }
-                }
+                input.pixel_hash[l] = (rng.next_u32() as u64) << 32 | rng.next_u32() as u64;
+                // Dimensions near u32::MAX too, where d + k wraps.
+                input.dimension[l] = rng.next_u32();
             }
             let portable = sobol_vertices_portable(&input);
             assert_eq!(sobol_vertices(&input), portable);
             #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx2") {
-                // SAFETY: the CPU has AVX2.
-                assert_eq!(unsafe { sobol_vertices_avx2(&input) }, portable);
+            {
+                let best = crate::geometry::simd_detected();
+                if best >= Isa::Avx2 {
+                    // SAFETY: the CPU has the features of `Isa::Avx2`.
+                    assert_eq!(unsafe { sobol_vertices_avx2(&input) }, portable);
+                }
+                if best == Isa::Avx512 {
+                    // SAFETY: the CPU has the features of `Isa::Avx512`.
+                    assert_eq!(unsafe { sobol_vertices_avx512(&input) }, portable);
+                }
             }
         }
     }

@@ -102,9 +102,13 @@ pub struct Sampler {
     /// The pixel whose dimensions' scramble seeds `seeds` holds (Sobol).
     seeds_pixel: Option<(u32, u32)>,
     /// The scramble seeds of the current pixel's first dimensions, filled
-    /// as they are first drawn. They depend on the seed, the pixel and the
+    /// as they are first drawn one at a time ([`Sampler::get_1d`],
+    /// [`Sampler::get_2d`]). They depend on the seed, the pixel and the
     /// dimension only, and a render draws a pixel's samples one after
-    /// another, so every sample after the first reuses them.
+    /// another, so every sample after the first reuses them. (A vertex's
+    /// dimensions drawn for many paths at once, [`Sampler::vertex_lanes`],
+    /// are hashed in vector code instead: cheaper there than reading and
+    /// transposing the lanes' tables.)
     seeds: Vec<[u32; 3]>,
     /// The sample index within the pixel.
     index: u32,
@@ -307,43 +311,15 @@ impl Sampler {
     }
 
     /// The Sobol sampler's state for the next [`Sampler::vertex`], which it
-    /// then skips: the premixed index and the scramble seeds of the five
-    /// dimensions. For [`super::lanes`], which computes the values of many
-    /// samplers at once.
+    /// then skips: the premixed index, the pixel's hash and the vertex's
+    /// first dimension. For [`super::lanes`], which computes the values of
+    /// many samplers at once, scramble seeds included ([`dimension_hash`]).
     #[inline(always)]
-    pub(super) fn sobol_vertex_state(&mut self) -> (u32, [[u32; 3]; 5]) {
+    pub(super) fn sobol_vertex_state(&mut self) -> (u32, u64, u32) {
         debug_assert_eq!(self.kind, SamplerKind::Sobol);
-        let d = self.dimension as usize;
-        if let Some(&[a, b, c, e, f]) = self.seeds.get(d..d + 5) {
-            self.dimension += 5;
-            return (self.index_premixed, [a, b, c, e, f]);
-        }
-        (self.index_premixed, self.vertex_seeds_hashed())
-    }
-
-    /// The scramble seeds of the vertex's five dimensions when the pixel's
-    /// table lacks some (the first sample of a pixel in a pass, or a path
-    /// deeper than the pixel's earlier ones): what five calls of
-    /// [`Sampler::dimension_seeds`] return and keep, with the five hashes
-    /// independent of each other, so that they run side by side.
-    #[inline(never)]
-    fn vertex_seeds_hashed(&mut self) -> [[u32; 3]; 5] {
         let d = self.dimension;
         self.dimension = d.wrapping_add(5);
-        let seeds: [[u32; 3]; 5] = std::array::from_fn(|k| {
-            let dk = d.wrapping_add(k as u32);
-            match self.seeds.get(dk as usize) {
-                Some(&kept) => kept,
-                None => dimension_hash(self.pixel_hash, dk),
-            }
-        });
-        for (k, &s) in seeds.iter().enumerate() {
-            let dk = d.wrapping_add(k as u32) as usize;
-            if self.seeds.len() == dk && dk < MAX_KEPT_DIMENSIONS {
-                self.seeds.push(s);
-            }
-        }
-        seeds
+        (self.index_premixed, self.pixel_hash, d)
     }
 
     /// The sample's position within the pixel filter's support: the first
@@ -398,9 +374,22 @@ const MAX_KEPT_DIMENSIONS: usize = 1024;
 /// bits, of which 96 are used.
 #[inline(always)]
 fn dimension_hash(pixel_hash: u64, d: u32) -> [u32; 3] {
-    let a = splitmix64(pixel_hash ^ (d as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
-    let b = splitmix64(a ^ 0xD1B5_4A32_D192_ED03);
-    [a as u32, (a >> 32) as u32, b as u32]
+    let a = dimension_hash_xy(pixel_hash, d);
+    [a as u32, (a >> 32) as u32, dimension_hash_y(a)]
+}
+
+/// The first 64 bits of [`dimension_hash`]: the index shuffle's seed (low
+/// half) and the first coordinate's (high half), all a 1D dimension uses.
+#[inline(always)]
+pub(super) fn dimension_hash_xy(pixel_hash: u64, d: u32) -> u64 {
+    splitmix64(pixel_hash ^ (d as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15))
+}
+
+/// The second coordinate's seed of [`dimension_hash`], from its first 64
+/// bits `a`.
+#[inline(always)]
+pub(super) fn dimension_hash_y(a: u64) -> u32 {
+    splitmix64(a ^ 0xD1B5_4A32_D192_ED03) as u32
 }
 
 /// [`dimension_hash`], called: for the one-value requests, which keep

@@ -2,10 +2,10 @@
 //! bottom level of lucent's two-level acceleration structure.
 
 use super::watertight::{intersect_block, intersect_block_filtered, TriangleBlock, WatertightRay};
-use crate::accel::isa;
-#[cfg(target_arch = "x86_64")]
-use crate::accel::Isa;
 use crate::accel::{BoxRay, Bvh, PageArray, MAX_LEAF_SIZE};
+use crate::geometry::isa;
+#[cfg(target_arch = "x86_64")]
+use crate::geometry::Isa;
 use crate::geometry::{Bounds3, Ray, Vec3};
 use crate::memory::prefetch;
 use crate::mesh::TriangleMesh;
@@ -160,7 +160,7 @@ impl MeshBvh {
         unsafe { self.intersect_as::<true, 2>(ray, t_min, t_max) }
     }
 
-    /// [`MeshBvh::intersect`] compiled for AVX-512 (see `accel::simd`).
+    /// [`MeshBvh::intersect`] compiled for AVX-512 (see `geometry::simd`).
     ///
     /// # Safety
     /// The CPU must have the features of `Isa::Avx512`.
@@ -311,7 +311,7 @@ impl MeshBvh {
         unsafe { self.occluded_as::<true, 2>(ray, t_min, t_max) }
     }
 
-    /// [`MeshBvh::occluded`] compiled for AVX-512 (see `accel::simd`).
+    /// [`MeshBvh::occluded`] compiled for AVX-512 (see `geometry::simd`).
     ///
     /// # Safety
     /// The CPU must have the features of `Isa::Avx512`.
@@ -434,7 +434,7 @@ mod tests {
     fn simd_queries_equal_portable_ones() {
         #[cfg(target_arch = "x86_64")]
         {
-            let best = crate::accel::simd_detected();
+            let best = crate::geometry::simd_detected();
             if best < Isa::Avx2 {
                 eprintln!("no AVX2 on this CPU: only the portable queries run");
                 return;

@@ -264,7 +264,7 @@ impl Bvh {
 
     /// [`Bvh::traverse_closest`] with the box test of one eight-lane AVX
     /// pass (`AVX`) or two portable four-lane passes; both give the same
-    /// results bit for bit (see `accel::simd`). Meant to be inlined into a
+    /// results bit for bit (see `geometry::simd`). Meant to be inlined into a
     /// caller compiled with `#[target_feature(enable = "avx2")]`, so that
     /// the whole query, leaf tests included, is compiled for AVX.
     ///

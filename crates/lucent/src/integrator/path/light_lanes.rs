@@ -19,11 +19,11 @@
 
 use super::lanes::LightStage;
 use super::{occluded, power_heuristic, DirectLighting};
-use crate::accel::isa;
-#[cfg(target_arch = "x86_64")]
-use crate::accel::Isa;
 use crate::bsdf::Bxdf;
 use crate::color::Color;
+use crate::geometry::isa;
+#[cfg(target_arch = "x86_64")]
+use crate::geometry::Isa;
 use crate::geometry::{group, set_group, Vec3Lanes, GROUP, LANES};
 use crate::interaction::SurfaceInteraction;
 use crate::light::{AreaLight, Emitter};

@@ -42,12 +42,12 @@
 
 use super::lanes::{LaneList, PathState};
 use super::RR_DEPTH;
-use crate::accel::isa;
-#[cfg(target_arch = "x86_64")]
-use crate::accel::Isa;
 #[cfg(doc)]
 use crate::bsdf::shading_frame;
 use crate::bsdf::DiffuseBxdf;
+use crate::geometry::isa;
+#[cfg(target_arch = "x86_64")]
+use crate::geometry::Isa;
 use crate::geometry::{coordinate_system_lane, group, set_group, sin_cos_lane, Frame, Ray, Vec3Lanes, GROUP, LANES};
 use crate::integrator::RayStats;
 use crate::interaction::SurfaceInteraction;

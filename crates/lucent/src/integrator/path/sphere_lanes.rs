@@ -19,9 +19,9 @@
 use super::lanes::LightStage;
 #[cfg(doc)]
 use super::PathIntegrator;
-use crate::accel::isa;
+use crate::geometry::isa;
 #[cfg(target_arch = "x86_64")]
-use crate::accel::Isa;
+use crate::geometry::Isa;
 use crate::geometry::{Vec3Lanes, LANES};
 use crate::interaction::SurfaceInteraction;
 use crate::light::{AreaLight, Emitter, LightSampleContext};

@@ -1,4 +1,4 @@
-//! Which instruction set the traversal runs on, chosen once per process.
+//! Which instruction set the vector code runs on, chosen once per process.
 //!
 //! The library is compiled for the baseline x86-64 (SSE2), so that one
 //! binary runs on every x86-64 CPU. An eight-wide node's box test is then
@@ -9,13 +9,17 @@
 //! (through `#[target_feature]`), one with AVX2, each taken when the CPU has
 //! it, and the portable one. All three do the same IEEE arithmetic in the
 //! same order, so they give bit-identical answers and images; tests compare
-//! them ray for ray.
+//! them ray for ray. The path integrator's lane kernels (the Sobol
+//! sampler's, the light and scatter stages', the film's) choose their
+//! builds here too. This lives in the bottom layer so that every layer can
+//! ask.
 //!
-//! The AVX-512 build runs the same 256-bit and 128-bit vector code as the
-//! AVX2 one. What it gains is the compiler's: EVEX encodings with 32 vector
-//! registers instead of 16 (the traversal loop keeps the ray's slab offsets,
-//! the node and the stack in registers instead of spilling them) and
-//! comparisons into mask registers (measured in `docs/performance.md`).
+//! The AVX-512 build of the traversal runs the same 256-bit and 128-bit
+//! vector code as the AVX2 one. What it gains is the compiler's: EVEX
+//! encodings with 32 vector registers instead of 16 (the traversal loop
+//! keeps the ray's slab offsets, the node and the stack in registers
+//! instead of spilling them) and comparisons into mask registers (measured
+//! in `docs/performance.md`).
 //!
 //! Setting the environment variable `LUCENT_SIMD` to `portable` or `avx2`
 //! before the first query caps the choice at that build (for measuring one
