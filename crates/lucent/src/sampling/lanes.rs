@@ -13,19 +13,19 @@
 //!
 //! The kernel also hashes each lane's scramble seeds from (pixel,
 //! dimension) itself, rather than reading them from the lane's sampler,
-//! where they are kept for one-at-a-time draws: gathering fifteen seeds a
-//! lane from sixty-four samplers' tables into the kernel's lanes, most of
-//! it cache misses and scalar stores, and hashing the seeds the tables
-//! lacked cost more than the hashes in vector code (in the Cornell box at
-//! 512², 16 spp, the sampler's functions went from 8.8% of the render to
-//! 5.6%). The hash is
-//! two SplitMix64 rounds, whose 64-bit multiplications AVX-512 DQ does in
-//! one instruction (`vpmullq`), hence the AVX-512 build; AVX2 makes each of
-//! them from three 32-bit ones, and its build of the kernel, with the
-//! hashes, is as fast as it was with the tables (`docs/performance.md`,
-//! twenty-ninth sitting). An earlier AVX-512 build without the hashes, with
-//! GFNI's `vgf2p8affineqb` for the bit reversals, had been 5% slower than
-//! the AVX2 one (`docs/reliability.md`).
+//! where they are kept for one-at-a-time draws. Gathering fifteen seeds a
+//! lane from sixty-four samplers' tables into the kernel's lanes (cache
+//! misses and scalar stores), and hashing one lane at a time the seeds
+//! that the tables lacked, cost more than the hashes in vector code: in
+//! the Cornell box at 512², 16 spp, the sampler's functions went from 8.8%
+//! of the render to 5.6%. The hash is two SplitMix64 rounds, whose 64-bit
+//! multiplications AVX-512 DQ does in one instruction (`vpmullq`), hence
+//! the AVX-512 build; AVX2 makes each of them from three 32-bit ones, and
+//! its build of the kernel, with the hashes, is as fast as it was with the
+//! tables (`docs/performance.md`, twenty-ninth sitting). An earlier
+//! AVX-512 build without the hashes, with GFNI's `vgf2p8affineqb` for the
+//! bit reversals, had been 5% slower than the AVX2 one
+//! (`docs/reliability.md`).
 
 use super::sampler::{
     dimension_hash_xy, dimension_hash_y, lk_premix, lk_seeded, sobol_1_reversed, to_unit_float, Sampler, SamplerKind,
