@@ -340,7 +340,7 @@ impl Sampler {
         if let Some(&seeds) = self.seeds.get(d as usize) {
             return seeds;
         }
-        let seeds = dimension_hash_out_of_line(self.pixel_hash, d);
+        let seeds = dimension_hash(self.pixel_hash, d);
         if self.seeds.len() == d as usize && self.seeds.len() < MAX_KEPT_DIMENSIONS {
             self.seeds.push(seeds);
         }
@@ -371,8 +371,10 @@ const MAX_KEPT_DIMENSIONS: usize = 1024;
 /// The three 32-bit scramble seeds of dimension `d` (index shuffle, first
 /// coordinate, second coordinate) of the pixel with `pixel_hash`: two
 /// SplitMix64 finalisations of (pixel hash, dimension) give 128 well-mixed
-/// bits, of which 96 are used.
-#[inline(always)]
+/// bits, of which 96 are used. Out of line: only the one-value requests
+/// call it, and keep their callers small (the vertex kernel hashes in its
+/// lanes from [`dimension_hash_xy`] and [`dimension_hash_y`]).
+#[inline(never)]
 fn dimension_hash(pixel_hash: u64, d: u32) -> [u32; 3] {
     let a = dimension_hash_xy(pixel_hash, d);
     [a as u32, (a >> 32) as u32, dimension_hash_y(a)]
@@ -390,13 +392,6 @@ pub(super) fn dimension_hash_xy(pixel_hash: u64, d: u32) -> u64 {
 #[inline(always)]
 pub(super) fn dimension_hash_y(a: u64) -> u32 {
     splitmix64(a ^ 0xD1B5_4A32_D192_ED03) as u32
-}
-
-/// [`dimension_hash`], called: for the one-value requests, which keep
-/// their callers small.
-#[inline(never)]
-fn dimension_hash_out_of_line(pixel_hash: u64, d: u32) -> [u32; 3] {
-    dimension_hash(pixel_hash, d)
 }
 
 /// The SplitMix64 output function (Steele, Lea and Flood, "Fast Splittable
