@@ -44,7 +44,7 @@ impl Doc {
 
     /// A buffer view over `bytes` (4-byte aligned).
     fn view(&mut self, bytes: &[u8]) -> usize {
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         let offset = self.bin.len();
@@ -132,11 +132,11 @@ impl Doc {
     fn write_glb(&mut self, dir: &Path, name: &str) -> PathBuf {
         self.finish(None);
         let mut text = serde_json::to_vec(&self.json).unwrap();
-        while text.len() % 4 != 0 {
+        while !text.len().is_multiple_of(4) {
             text.push(b' ');
         }
         let mut bin = self.bin.clone();
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         let total = 12 + 8 + text.len() + 8 + bin.len();

@@ -32,7 +32,7 @@ pub const ADAPTIVE_STEP: u32 = 8;
 
 /// Whether adaptive sampling decides after `spp` samples.
 pub fn is_decision_point(spp: u32) -> bool {
-    spp >= ADAPTIVE_MIN_SPP && spp % ADAPTIVE_STEP == 0
+    spp >= ADAPTIVE_MIN_SPP && spp.is_multiple_of(ADAPTIVE_STEP)
 }
 
 /// The first decision point after `spp` samples.

@@ -148,7 +148,7 @@ impl SphericalRectangle {
 
 /// Lanes of one step of [`SphericalRectangle::sample_lanes`].
 const W: usize = 8;
-const _: () = assert!(LANES % W == 0);
+const _: () = assert!(LANES.is_multiple_of(W));
 
 /// `x.clamp(lo, hi)` for `lo ≤ hi`, as a select the compiler can vectorise
 /// (the standard library's asserts `lo ≤ hi` first): the same value, NaN

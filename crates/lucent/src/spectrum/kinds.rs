@@ -44,7 +44,7 @@ impl Spectrum {
         if pairs.is_empty() {
             return Err(SpectrumError::Empty);
         }
-        if pairs.len() % 2 != 0 {
+        if !pairs.len().is_multiple_of(2) {
             return Err(SpectrumError::OddCount(pairs.len()));
         }
         let lambdas = pairs.iter().step_by(2).map(|&l| l as f64).collect();

@@ -252,7 +252,7 @@ mod tests {
             _ => TrowbridgeReitz::anisotropic(1e-4, alpha.max(2e-3)),
         };
         let color = |s: f32, rng: &mut Pcg32| Color::new(rng.uniform(), rng.uniform(), rng.uniform()) * s;
-        let fresnel = if k % 4 == 0 {
+        let fresnel = if k.is_multiple_of(4) {
             ConductorFresnel::Reflectance { r: color(1.0, rng) }
         } else {
             ConductorFresnel::Complex { eta: color(2.0, rng) + Color::splat(0.05), k: color(5.0, rng) }

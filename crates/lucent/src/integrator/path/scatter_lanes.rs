@@ -574,7 +574,7 @@ pub(super) mod tests {
         path.beta = Color::new(rng.uniform(), rng.uniform(), rng.uniform()) * [0.01, 1.0, 30.0][k % 3];
         path.eta_scale = [1.0, 2.25, 0.44][k % 3];
         path.depth = k as u32 % 8;
-        path.any_non_specular = k % 2 == 0;
+        path.any_non_specular = k.is_multiple_of(2);
         let si = SurfaceInteraction {
             t: 1.0,
             p,
@@ -663,7 +663,7 @@ pub(super) mod tests {
         }
         let (ns, dpdu) = (si.ns, si.dpdu);
         let mut r = Color::new(rng.uniform(), rng.uniform(), rng.uniform());
-        if k % 11 == 0 {
+        if k.is_multiple_of(11) {
             r = Color::ZERO;
         }
         let bsdf = Bsdf::new(ns, dpdu, Bxdf::Diffuse(DiffuseBxdf { r }));
@@ -679,7 +679,7 @@ pub(super) mod tests {
             5 => dir_u = Vec2::ZERO,
             _ => {}
         }
-        if k % 17 == 0 {
+        if k.is_multiple_of(17) {
             // `wo` in the shading plane.
             path.ray.dir = bsdf.frame().x;
         }

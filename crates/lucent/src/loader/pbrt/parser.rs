@@ -732,10 +732,10 @@ fn param(lx: &mut Lexer<'_>, decl: &Token) -> Result<Param, PbrtError> {
 fn check_count(p: &Param, decl: &str) -> Result<(), PbrtError> {
     let n = p.values.len();
     let problem = match p.ty {
-        ParamType::Point3 | ParamType::Vector3 | ParamType::Normal if n % 3 != 0 => {
+        ParamType::Point3 | ParamType::Vector3 | ParamType::Normal if !n.is_multiple_of(3) => {
             format!("needs 3 numbers (x y z) per {}: a multiple of 3; given {n}", p.ty.name())
         }
-        ParamType::Point2 | ParamType::Vector2 if n % 2 != 0 => {
+        ParamType::Point2 | ParamType::Vector2 if !n.is_multiple_of(2) => {
             format!("needs 2 numbers (x y) per {}: a multiple of 2; given {n}", p.ty.name())
         }
         ParamType::Rgb if n != 3 => format!("needs exactly 3 numbers (r g b); given {n}"),
@@ -743,7 +743,7 @@ fn check_count(p: &Param, decl: &str) -> Result<(), PbrtError> {
             let v3 = if n == 2 { " (pbrt-v3's second number, a scale, is gone: scale the light instead)" } else { "" };
             format!("needs exactly one number, a temperature in kelvin; given {n}{v3}")
         }
-        ParamType::Spectrum if matches!(p.values, ParamValues::Floats(_)) && n % 2 != 0 => {
+        ParamType::Spectrum if matches!(p.values, ParamValues::Floats(_)) && !n.is_multiple_of(2) => {
             format!("needs wavelength–value pairs (an even count of numbers); given {n}")
         }
         _ => return Ok(()),

@@ -241,7 +241,7 @@ impl Importer<'_> {
         loc: &Loc,
         what: &str,
     ) -> Result<Vec<u32>, PbrtError> {
-        if i.len() % per != 0 {
+        if !i.len().is_multiple_of(per) {
             return Err(PbrtError::at(
                 loc,
                 format!("{what}: \"integer indices\" has {} values, not a multiple of {per}", i.len()),
