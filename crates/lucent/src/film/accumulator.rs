@@ -423,6 +423,53 @@ pub(super) unsafe fn add_contribution_avx2(sums: &mut [i64; 4], l: Color, w: f32
     unsafe { _mm256_storeu_si256(at, _mm256_add_epi64(_mm256_loadu_si256(at), fixed)) };
 }
 
+/// Add [`fixed_contribution`]`(l, w[i])` to the four sums of each of the
+/// first `n ≤ 4` pixels of `sums` (four sums a pixel, one after another),
+/// in AVX-512: the same IEEE operations as the scalar definition, sixteen
+/// values at a time. The weight rides in the fourth lane of each pixel as
+/// `1 · w` (exact, and inside the clamp: `|w| ≤ MAX_CONTRIBUTION`), and
+/// `vcvttpd2qq` truncates towards zero as `as i64` does. Pixels past `n`
+/// are neither read nor written.
+///
+/// # Safety
+/// The CPU must have AVX-512 F, DQ and VL.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,avx512f,avx512dq,avx512vl")]
+#[inline]
+pub(super) unsafe fn add_contributions_avx512(sums: &mut [i64], n: usize, l: Color, w: [f32; 4]) {
+    use std::arch::x86_64::*;
+    assert!(n <= 4 && sums.len() >= 4 * n, "{n} pixels in {} sums", sums.len());
+    debug_assert!(w[..n].iter().all(|w| w.abs() <= MAX_CONTRIBUTION), "filter weights {w:?}");
+    let colour = _mm512_set_ps(1.0, l.z, l.y, l.x, 1.0, l.z, l.y, l.x, 1.0, l.z, l.y, l.x, 1.0, l.z, l.y, l.x);
+    let weights =
+        _mm512_set_ps(w[3], w[3], w[3], w[3], w[2], w[2], w[2], w[2], w[1], w[1], w[1], w[1], w[0], w[0], w[0], w[0]);
+    let max = _mm512_set1_ps(MAX_CONTRIBUTION);
+    // glam's clamp: max, then min (a NaN becomes −MAX_CONTRIBUTION in both).
+    let wl = _mm512_min_ps(_mm512_max_ps(_mm512_mul_ps(colour, weights), _mm512_set1_ps(-MAX_CONTRIBUTION)), max);
+    let halves = [_mm512_castps512_ps256(wl), _mm512_extractf32x8_ps::<1>(wl)];
+    for (k, half) in halves.into_iter().enumerate() {
+        // Pixels 2k and 2k + 1.
+        if 2 * k >= n {
+            break;
+        }
+        let x = _mm512_mul_pd(_mm512_cvtps_pd(half), _mm512_set1_pd(FIXED_POINT_SCALE));
+        // x + copysign(½, x), then towards zero: half away from zero.
+        let half_away = _mm512_or_pd(_mm512_and_pd(x, _mm512_set1_pd(-0.0)), _mm512_set1_pd(0.5));
+        let fixed = _mm512_cvttpd_epi64(_mm512_add_pd(x, half_away));
+        // Each pixel's four sums loaded and stored alone: the next sample's
+        // footprint, one pixel over, then loads what this one stored from
+        // the very addresses, which the store buffer forwards (a load that
+        // straddled two stores would wait for both to reach the cache).
+        let pixels = [_mm512_castsi512_si256(fixed), _mm512_extracti64x4_epi64::<1>(fixed)];
+        for (p, fixed) in pixels.into_iter().enumerate().take(n - 2 * k) {
+            let at = sums[4 * (2 * k + p)..4 * (2 * k + p) + 4].as_mut_ptr().cast::<__m256i>();
+            // SAFETY: the four sums of pixel 2k + p < n, inside `sums`
+            // (asserted above); unaligned loads and stores.
+            unsafe { _mm256_storeu_si256(at, _mm256_add_epi64(_mm256_loadu_si256(at), fixed)) };
+        }
+    }
+}
+
 impl Clone for Accumulator {
     fn clone(&self) -> Self {
         let counts = self.adaptive.then(|| self.counts.clone());
@@ -493,6 +540,47 @@ mod tests {
             // SAFETY: the CPU has AVX2 (checked above).
             unsafe { add_contribution_avx2(&mut sums, l, w) };
             assert_eq!(sums, expect, "l = {l:?}, w = {w:e}");
+        }
+    }
+
+    /// The AVX-512 row kernel adds each of its first `n` pixels'
+    /// [`fixed_contribution`] and leaves the sums after them alone.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn avx512_rows_equal_the_scalar_contributions() {
+        if crate::geometry::simd_detected() != crate::geometry::Isa::Avx512 {
+            eprintln!("no AVX-512 on this CPU: the kernel is not taken, nothing to compare");
+            return;
+        }
+        let mut rng = crate::sampling::Pcg32::new(8, 5);
+        let unit = 1.0 / FIXED_POINT_SCALE as f32;
+        let special = [0.0, -0.0, 0.5 * unit, -2.5 * unit, 1.0, MAX_CONTRIBUTION, 3e38, f32::INFINITY, f32::NAN];
+        let weights = [0.0, -0.0, 1.0, -1.0, 0.5 * unit, MAX_CONTRIBUTION, -MAX_CONTRIBUTION];
+        let mut sums: Vec<i64> = (0..20).map(|k| (k - 9) << (2 * k)).collect();
+        let mut expect = sums.clone();
+        for i in 0..100_000 {
+            let mut c =
+                [0.0f32; 3].map(|_| (rng.uniform() * 2.0 - 1.0) * 2f32.powi((rng.uniform() * 90.0) as i32 - 60));
+            if i % 7 == 0 {
+                c[i % 3] = special[i % special.len()] * if i % 2 == 0 { 1.0 } else { -1.0 };
+            }
+            let l = Color::from_array(c);
+            let w: [f32; 4] = std::array::from_fn(|p| {
+                if (i + p) % 11 == 0 {
+                    weights[(i + p) % weights.len()]
+                } else {
+                    rng.uniform() * 2.0 - 1.0
+                }
+            });
+            let n = i % 5;
+            for p in 0..n {
+                for (e, v) in expect[4 * p..4 * p + 4].iter_mut().zip(fixed_contribution(l, w[p])) {
+                    *e = e.wrapping_add(v);
+                }
+            }
+            // SAFETY: the CPU has AVX-512 (checked above).
+            unsafe { add_contributions_avx512(&mut sums, n, l, w) };
+            assert_eq!(sums, expect, "l = {l:?}, w = {w:?}, {n} pixels");
         }
     }
 

@@ -266,21 +266,134 @@ impl Filter1d {
     }
 
     /// [`Filter1d::evaluate`] of each of the eight offsets `x`, bit for
-    /// bit: the Gaussian's in AVX2 vector instructions where the CPU has
-    /// them ([`Filter1d::gaussian8_avx2`]: the same operations as
+    /// bit ([`Filter1d::evaluate_many`] of eight).
+    #[inline]
+    pub(super) fn evaluate8(&self, x: [f32; 8]) -> [f32; 8] {
+        let mut out = [0.0; 8];
+        self.evaluate_many(&x, &mut out);
+        out
+    }
+
+    /// [`Filter1d::evaluate`] of each offset in `x`, into `out` (as long),
+    /// bit for bit: the Gaussian's in AVX2 vector instructions where the
+    /// CPU has them ([`Filter1d::gaussian4_avx2`]: the same operations as
     /// [`Filter1d::gaussian`], four lanes to a register), the other
     /// filters' one by one.
     #[inline]
-    pub(super) fn evaluate8(&self, x: [f32; 8]) -> [f32; 8] {
+    pub(super) fn evaluate_many(&self, x: &[f32], out: &mut [f32]) {
+        assert_eq!(x.len(), out.len(), "one weight per offset");
         #[cfg(target_arch = "x86_64")]
-        if matches!(self.filter, Filter::Gaussian { .. }) && matches!(isa(), Isa::Avx2 | Isa::Avx512) {
-            // SAFETY: `isa` found AVX2 (AVX-512 includes it).
-            return unsafe { self.gaussian8_avx2(x) };
+        if matches!(self.filter, Filter::Gaussian { .. }) {
+            match isa() {
+                // SAFETY: `isa` found the features of `Isa::Avx512`.
+                Isa::Avx512 => return unsafe { self.gaussian_many_avx512(x, out) },
+                // SAFETY: `isa` found AVX2.
+                Isa::Avx2 => return unsafe { self.gaussian_many_avx2(x, out) },
+                Isa::Portable => {}
+            }
         }
-        x.map(|x| self.evaluate(x))
+        for (out, &x) in out.iter_mut().zip(x) {
+            *out = self.evaluate(x);
+        }
     }
 
-    /// The Gaussian's [`Filter1d::evaluate`] of eight offsets, in AVX2:
+    /// Whether [`Filter1d::evaluate_many`] computes several weights for
+    /// less than as many calls of [`Filter1d::evaluate`]: a Gaussian on a
+    /// CPU with AVX2.
+    pub(super) fn has_lanes(&self) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        return matches!(self.filter, Filter::Gaussian { .. }) && matches!(isa(), Isa::Avx2 | Isa::Avx512);
+        #[cfg(not(target_arch = "x86_64"))]
+        false
+    }
+
+    /// The Gaussian's [`Filter1d::evaluate_many`] in AVX2: four offsets a
+    /// step, the last one to three one by one.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2, and the filter must be a Gaussian.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn gaussian_many_avx2(&self, x: &[f32], out: &mut [f32]) {
+        use std::arch::x86_64::*;
+        let mut xs = x.chunks_exact(4);
+        let mut outs = out.chunks_exact_mut(4);
+        for (x4, out4) in (&mut xs).zip(&mut outs) {
+            // SAFETY: four f32 each (unaligned loads and stores of exactly
+            // them).
+            unsafe { _mm_storeu_ps(out4.as_mut_ptr(), self.gaussian4_avx2(_mm_loadu_ps(x4.as_ptr()))) };
+        }
+        for (out, &x) in outs.into_remainder().iter_mut().zip(xs.remainder()) {
+            *out = self.evaluate(x);
+        }
+    }
+
+    /// The Gaussian's [`Filter1d::evaluate_many`] in AVX-512: eight offsets
+    /// a step ([`Filter1d::gaussian8_avx512`]), then as AVX2 does. Twice
+    /// the lanes of an instruction let twice the offsets' long chains of
+    /// dependent steps be under way at once.
+    ///
+    /// # Safety
+    /// The CPU must have the features of `Isa::Avx512`, and the filter must
+    /// be a Gaussian.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
+    unsafe fn gaussian_many_avx512(&self, x: &[f32], out: &mut [f32]) {
+        use std::arch::x86_64::*;
+        let mut xs = x.chunks_exact(8);
+        let mut outs = out.chunks_exact_mut(8);
+        for (x8, out8) in (&mut xs).zip(&mut outs) {
+            // SAFETY: eight f32 each (unaligned loads and stores of exactly
+            // them).
+            unsafe { _mm256_storeu_ps(out8.as_mut_ptr(), self.gaussian8_avx512(_mm256_loadu_ps(x8.as_ptr()))) };
+        }
+        // SAFETY: the CPU has AVX2 (AVX-512 includes it).
+        unsafe { self.gaussian_many_avx2(xs.remainder(), outs.into_remainder()) };
+    }
+
+    /// [`Filter1d::gaussian4_avx2`] of eight offsets in AVX-512: the same
+    /// operations, the comparisons' results as masks.
+    ///
+    /// # Safety
+    /// The CPU must have the features of `Isa::Avx512`, and the filter must
+    /// be a Gaussian.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
+    #[inline]
+    unsafe fn gaussian8_avx512(&self, xs: std::arch::x86_64::__m256) -> std::arch::x86_64::__m256 {
+        use std::arch::x86_64::*;
+        let c = _mm512_set1_pd;
+        let sign = c(-0.0);
+        let ax = _mm512_andnot_pd(sign, _mm512_cvtps_pd(xs));
+        // −ax·ax / 2σ²
+        let arg = _mm512_div_pd(_mm512_mul_pd(_mm512_xor_pd(ax, sign), ax), c(self.two_sigma2));
+        // exp_nonpositive(arg)
+        let xc = _mm512_max_pd(arg, c(-700.0));
+        let t = _mm512_add_pd(_mm512_mul_pd(xc, c(std::f64::consts::LOG2_E)), c(EXP_ROUND));
+        let k = _mm512_sub_pd(t, c(EXP_ROUND));
+        let r = _mm512_sub_pd(_mm512_sub_pd(xc, _mm512_mul_pd(k, c(EXP_LN2_HI))), _mm512_mul_pd(k, c(EXP_LN2_LO)));
+        let r2 = _mm512_mul_pd(r, r);
+        let pair = |i: usize| _mm512_add_pd(c(EXP_Q[i]), _mm512_mul_pd(c(EXP_Q[i + 1]), r));
+        let quad = |i: usize| _mm512_add_pd(pair(i), _mm512_mul_pd(pair(i + 2), r2));
+        let r4 = _mm512_mul_pd(r2, r2);
+        let q = _mm512_add_pd(
+            _mm512_add_pd(quad(0), _mm512_mul_pd(quad(4), r4)),
+            _mm512_mul_pd(quad(8), _mm512_mul_pd(r4, r4)),
+        );
+        let er = _mm512_add_pd(c(1.0), _mm512_add_pd(r, _mm512_mul_pd(r2, q)));
+        let two_k = _mm512_castsi512_pd(_mm512_slli_epi64::<52>(_mm512_add_epi64(
+            _mm512_castpd_si512(t),
+            _mm512_set1_epi64(1023),
+        )));
+        let below = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(arg, c(-700.0));
+        let e = _mm512_maskz_mov_pd(!below, _mm512_mul_pd(er, two_k));
+        // (e − g(r)).max(0), and 0 beyond the radius.
+        let g = _mm512_max_pd(_mm512_sub_pd(e, c(self.floor)), _mm512_setzero_pd());
+        let outside = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(ax, c(self.r));
+        _mm512_cvtpd_ps(_mm512_maskz_mov_pd(!outside, g))
+    }
+
+    /// The Gaussian's [`Filter1d::evaluate`] of four offsets, in AVX2:
     /// each step below is one of [`Filter1d::gaussian`]'s and
     /// [`exp_nonpositive`]'s operations (multiplications and additions
     /// apart, never fused), on four `f64` lanes at once.
@@ -289,46 +402,38 @@ impl Filter1d {
     /// The CPU must have AVX2, and the filter must be a Gaussian.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn gaussian8_avx2(&self, x: [f32; 8]) -> [f32; 8] {
+    #[inline]
+    unsafe fn gaussian4_avx2(&self, xs: std::arch::x86_64::__m128) -> std::arch::x86_64::__m128 {
         use std::arch::x86_64::*;
         let c = _mm256_set1_pd;
-        let mut out = [0.0f32; 8];
-        for half in 0..2 {
-            // SAFETY: four f32 of `x` from 4·half on (the unaligned load
-            // reads exactly them).
-            let xs = unsafe { _mm_loadu_ps(x.as_ptr().add(4 * half)) };
-            let sign = c(-0.0);
-            let ax = _mm256_andnot_pd(sign, _mm256_cvtps_pd(xs));
-            // −ax·ax / 2σ²
-            let arg = _mm256_div_pd(_mm256_mul_pd(_mm256_xor_pd(ax, sign), ax), c(self.two_sigma2));
-            // exp_nonpositive(arg)
-            let xc = _mm256_max_pd(arg, c(-700.0));
-            let t = _mm256_add_pd(_mm256_mul_pd(xc, c(std::f64::consts::LOG2_E)), c(EXP_ROUND));
-            let k = _mm256_sub_pd(t, c(EXP_ROUND));
-            let r = _mm256_sub_pd(_mm256_sub_pd(xc, _mm256_mul_pd(k, c(EXP_LN2_HI))), _mm256_mul_pd(k, c(EXP_LN2_LO)));
-            let r2 = _mm256_mul_pd(r, r);
-            let pair = |i: usize| _mm256_add_pd(c(EXP_Q[i]), _mm256_mul_pd(c(EXP_Q[i + 1]), r));
-            let quad = |i: usize| _mm256_add_pd(pair(i), _mm256_mul_pd(pair(i + 2), r2));
-            let r4 = _mm256_mul_pd(r2, r2);
-            let q = _mm256_add_pd(
-                _mm256_add_pd(quad(0), _mm256_mul_pd(quad(4), r4)),
-                _mm256_mul_pd(quad(8), _mm256_mul_pd(r4, r4)),
-            );
-            let er = _mm256_add_pd(c(1.0), _mm256_add_pd(r, _mm256_mul_pd(r2, q)));
-            let two_k = _mm256_castsi256_pd(_mm256_slli_epi64::<52>(_mm256_add_epi64(
-                _mm256_castpd_si256(t),
-                _mm256_set1_epi64x(1023),
-            )));
-            let below = _mm256_cmp_pd::<_CMP_LT_OQ>(arg, c(-700.0));
-            let e = _mm256_andnot_pd(below, _mm256_mul_pd(er, two_k));
-            // (e − g(r)).max(0), and 0 beyond the radius.
-            let g = _mm256_max_pd(_mm256_sub_pd(e, c(self.floor)), _mm256_setzero_pd());
-            let outside = _mm256_cmp_pd::<_CMP_GT_OQ>(ax, c(self.r));
-            let f = _mm256_cvtpd_ps(_mm256_andnot_pd(outside, g));
-            // SAFETY: four f32 of `out` from 4·half on.
-            unsafe { _mm_storeu_ps(out.as_mut_ptr().add(4 * half), f) };
-        }
-        out
+        let sign = c(-0.0);
+        let ax = _mm256_andnot_pd(sign, _mm256_cvtps_pd(xs));
+        // −ax·ax / 2σ²
+        let arg = _mm256_div_pd(_mm256_mul_pd(_mm256_xor_pd(ax, sign), ax), c(self.two_sigma2));
+        // exp_nonpositive(arg)
+        let xc = _mm256_max_pd(arg, c(-700.0));
+        let t = _mm256_add_pd(_mm256_mul_pd(xc, c(std::f64::consts::LOG2_E)), c(EXP_ROUND));
+        let k = _mm256_sub_pd(t, c(EXP_ROUND));
+        let r = _mm256_sub_pd(_mm256_sub_pd(xc, _mm256_mul_pd(k, c(EXP_LN2_HI))), _mm256_mul_pd(k, c(EXP_LN2_LO)));
+        let r2 = _mm256_mul_pd(r, r);
+        let pair = |i: usize| _mm256_add_pd(c(EXP_Q[i]), _mm256_mul_pd(c(EXP_Q[i + 1]), r));
+        let quad = |i: usize| _mm256_add_pd(pair(i), _mm256_mul_pd(pair(i + 2), r2));
+        let r4 = _mm256_mul_pd(r2, r2);
+        let q = _mm256_add_pd(
+            _mm256_add_pd(quad(0), _mm256_mul_pd(quad(4), r4)),
+            _mm256_mul_pd(quad(8), _mm256_mul_pd(r4, r4)),
+        );
+        let er = _mm256_add_pd(c(1.0), _mm256_add_pd(r, _mm256_mul_pd(r2, q)));
+        let two_k = _mm256_castsi256_pd(_mm256_slli_epi64::<52>(_mm256_add_epi64(
+            _mm256_castpd_si256(t),
+            _mm256_set1_epi64x(1023),
+        )));
+        let below = _mm256_cmp_pd::<_CMP_LT_OQ>(arg, c(-700.0));
+        let e = _mm256_andnot_pd(below, _mm256_mul_pd(er, two_k));
+        // (e − g(r)).max(0), and 0 beyond the radius.
+        let g = _mm256_max_pd(_mm256_sub_pd(e, c(self.floor)), _mm256_setzero_pd());
+        let outside = _mm256_cmp_pd::<_CMP_GT_OQ>(ax, c(self.r));
+        _mm256_cvtpd_ps(_mm256_andnot_pd(outside, g))
     }
 }
 
@@ -357,7 +462,7 @@ const EXP_Q: [f64; 12] = [
 
 /// `eˣ` for `x ≤ 0` (0 below −700, where `eˣ < 10⁻³⁰⁴`), in `f64`: the
 /// Gaussian filter's `exp`, several times a sample, in a form that
-/// [`Filter1d::gaussian8_avx2`] repeats in vector instructions.
+/// [`Filter1d::gaussian4_avx2`] repeats in vector instructions.
 ///
 /// The classical reduction (W. J. Cody and W. Waite, *Software Manual for
 /// the Elementary Functions*, 1980, ch. 6): `x = k ln 2 + r` with `k` the
@@ -654,6 +759,53 @@ mod tests {
             }
         }
         assert!(same as f64 >= 0.999 * all as f64, "{same} of {all} equal to the C library's");
+    }
+
+    /// [`Filter1d::evaluate_many`] gives [`Filter1d::evaluate`]'s bits in
+    /// every build the CPU runs, at every length (the kernels' tails of
+    /// fewer than eight and four offsets included), at the radius and
+    /// beyond it.
+    #[test]
+    fn evaluate_many_equals_evaluate_in_every_build() {
+        let mut rng = crate::sampling::Pcg32::new(9, 4);
+        let filters = [
+            Filter::Gaussian { radius: 1.5, sigma: 0.5 },
+            Filter::Gaussian { radius: 3.0, sigma: 0.1 },
+            Filter::Gaussian { radius: 2.0, sigma: 4.0 },
+            Filter::Tent { radius: 1.0 },
+            Filter::Mitchell { radius: 2.0, b: 1.0 / 3.0, c: 1.0 / 3.0 },
+        ];
+        for filter in filters {
+            let f1 = Filter1d::new(&filter);
+            let r = filter.radius();
+            let special = [0.0, -0.0, r, -r, r.next_up(), -r.next_down(), 1e-20, 40.0, -1e30];
+            for len in 0..40 {
+                let x: Vec<f32> = (0..len)
+                    .map(|i| if i % 5 == 4 { special[i % special.len()] } else { (rng.uniform() - 0.5) * 2.5 * r })
+                    .collect();
+                let expect: Vec<u32> = x.iter().map(|&x| f1.evaluate(x).to_bits()).collect();
+                let bits = |out: &[f32]| out.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                let mut out = vec![f32::NAN; len];
+                f1.evaluate_many(&x, &mut out);
+                assert_eq!(bits(&out), expect, "{filter:?}, {len} offsets");
+                #[cfg(target_arch = "x86_64")]
+                if matches!(filter, Filter::Gaussian { .. }) {
+                    let best = crate::geometry::simd_detected();
+                    if best >= Isa::Avx2 {
+                        out.fill(f32::NAN);
+                        // SAFETY: the CPU has AVX2; the filter is a Gaussian.
+                        unsafe { f1.gaussian_many_avx2(&x, &mut out) };
+                        assert_eq!(bits(&out), expect, "AVX2, {filter:?}, {len} offsets");
+                    }
+                    if best == Isa::Avx512 {
+                        out.fill(f32::NAN);
+                        // SAFETY: the CPU has AVX-512; the filter is a Gaussian.
+                        unsafe { f1.gaussian_many_avx512(&x, &mut out) };
+                        assert_eq!(bits(&out), expect, "AVX-512, {filter:?}, {len} offsets");
+                    }
+                }
+            }
+        }
     }
 
     /// ∫f₁ and ∫|f₁| over [−r, r] by the midpoint rule on a fine grid.

@@ -11,13 +11,60 @@
 //! row instead of twice per pixel (a Gaussian evaluates two `exp` each
 //! time), and the atomic additions, which serialise the core, come once per
 //! pixel of the band and row instead of once per sample and pixel.
+//!
+//! The renderer traces a row's samples in runs (a sample index across up
+//! to 64 pixels), and a run's filter factors are computed together
+//! ([`SplatBand::weigh`]): a Gaussian's six `exp` for a sample's 3 × 3
+//! footprint fill a vector register only across samples. With AVX-512 a
+//! footprint row of up to four pixels then takes one kernel call, its
+//! sixteen sums converted to fixed point in two registers
+//! ([`SplatBand::add_weighed`]). The sums are the same integers as one
+//! sample and one pixel at a time.
 
 use super::{fixed_contribution, fixed_value, Accumulator, Filter, Filter1d};
 use crate::color::Color;
-use crate::geometry::Vec2;
+use crate::geometry::{Isa, Vec2};
+
+/// The builds of [`SplatBand::add_footprint`] (its `BUILD`): portable,
+/// AVX2, AVX-512.
+const PORTABLE: u8 = 0;
+const AVX2: u8 = 1;
+const AVX512: u8 = 2;
+
+/// The offsets of [`SplatBand::add_footprint`]'s columns and rows from
+/// samples at in-pixel positions `us`, `m` of each from the footprint's
+/// first, into `offsets` (column `i` of sample `j` at `i·n + j`, row `i`
+/// at `(m + i)·n + j`, for `n` samples): k + ½ − u, the same values, as
+/// k_lo + i is an integer (exact in f32) whichever way it is formed.
+#[inline(always)]
+fn footprint_offsets(us: &[Vec2], radius: f32, m: usize, offsets: &mut [f32]) {
+    let n = us.len();
+    for (j, &u) in us.iter().enumerate() {
+        let k_lo = (u - Vec2::splat(0.5 + radius)).floor() + Vec2::ONE;
+        for i in 0..m {
+            offsets[i * n + j] = (k_lo.x + i as f32) + 0.5 - u.x;
+            offsets[(m + i) * n + j] = (k_lo.y + i as f32) + 0.5 - u.y;
+        }
+    }
+}
+
+/// [`footprint_offsets`] compiled for AVX2, whose `vroundss` floors
+/// without a call to the C library.
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn footprint_offsets_avx2(us: &[Vec2], radius: f32, m: usize, offsets: &mut [f32]) {
+    footprint_offsets(us, radius, m, offsets);
+}
 
 /// How many rows above and below its own a band holds.
 pub const MAX_BAND_REACH: i64 = 16;
+
+/// The most columns (and rows) of a footprint that [`SplatBand::weigh`]
+/// weighs for a run: a Gaussian of radius up to 2.
+const MAX_RUN_FOOTPRINT: usize = 4;
 
 /// A band of rows of fixed-point sums `[Σw·r, Σw·g, Σw·b, Σw]` (and
 /// `Σw·a` of each AOV channel, laid out as the [`Accumulator`]'s): the
@@ -45,10 +92,20 @@ pub struct SplatBand {
     /// rows.
     wx: Vec<f32>,
     wy: Vec<f32>,
-    /// Whether [`add`](Self::add) runs its AVX2 build (the CPU has it,
-    /// and `LUCENT_SIMD` allows it).
-    #[cfg(target_arch = "x86_64")]
-    avx2: bool,
+    /// The filter's factors of the footprints of a run of samples, weighed
+    /// together ([`weigh`](Self::weigh)): `run_m` columns, then `run_m`
+    /// rows, from each footprint's first before clipping to the image,
+    /// for each of the run's `run_len` samples (factor `m` of sample `j`
+    /// at `m·run_len + j`); `run_m` is 0 where the filter is weighed
+    /// sample by sample.
+    run_weights: Vec<f32>,
+    /// The offsets of those columns and rows from the samples.
+    run_offsets: Vec<f32>,
+    run_m: usize,
+    run_len: usize,
+    /// Which build of [`add`](Self::add) runs: AVX-512 or AVX2 where the
+    /// CPU has it and `LUCENT_SIMD` allows it, else the portable one.
+    isa: Isa,
 }
 
 impl SplatBand {
@@ -82,8 +139,11 @@ impl SplatBand {
             // more than the image).
             wx: vec![0.0; ((2.0 * radius).ceil() as usize).saturating_add(2).min(width as usize)],
             wy: vec![0.0; ((2.0 * radius).ceil() as usize).saturating_add(2).min(height as usize)],
-            #[cfg(target_arch = "x86_64")]
-            avx2: crate::geometry::isa() >= crate::geometry::Isa::Avx2,
+            run_weights: Vec::new(),
+            run_offsets: Vec::new(),
+            run_m: 0,
+            run_len: 0,
+            isa: crate::geometry::isa(),
         }
     }
 
@@ -97,20 +157,22 @@ impl SplatBand {
     /// pixel `px` in the band's row `y + k`.
     #[inline(always)]
     fn add_at(&mut self, k: i64, px: usize, l: Color, aux: &[f32], w: f32) {
-        self.add_at_with::<false>(k, px, l, aux, w);
+        self.add_at_with::<PORTABLE>(k, px, l, aux, w);
     }
 
     /// [`add_at`](Self::add_at), with the colour's sums added by the AVX2
-    /// kernel where `AVX2` (only in code compiled for AVX2).
+    /// kernel in the AVX2 and AVX-512 builds (only in code compiled for
+    /// AVX2).
     #[inline(always)]
-    fn add_at_with<const AVX2: bool>(&mut self, k: i64, px: usize, l: Color, aux: &[f32], w: f32) {
+    fn add_at_with<const BUILD: u8>(&mut self, k: i64, px: usize, l: Color, aux: &[f32], w: f32) {
         let row = (k - self.first) as usize;
         debug_assert!(row < self.rows, "footprint row {k} outside the band");
         let i = (row * self.width as usize + px) * self.stride;
         let colour: &mut [i64; 4] = (&mut self.sums[i..i + 4]).try_into().expect("4 sums");
-        if cfg!(target_arch = "x86_64") && AVX2 {
-            // SAFETY: `AVX2` is true only in `add_footprint_avx2`, which
-            // runs only where the CPU has AVX2.
+        if cfg!(target_arch = "x86_64") && BUILD >= AVX2 {
+            // SAFETY: `BUILD` is `AVX2` or `AVX512` only in
+            // `add_footprint_avx2` and `add_footprint_avx512`, which run
+            // only where the CPU has AVX2 (and AVX-512).
             #[cfg(target_arch = "x86_64")]
             unsafe {
                 super::accumulator::add_contribution_avx2(colour, l, w)
@@ -137,18 +199,69 @@ impl SplatBand {
     /// Add a sample of radiance `l` at `u` (in `[0, 1)²`) within pixel
     /// `(x, y)` of the band's row to every pixel it reaches (in `acc`
     /// directly for rows beyond the band), with its AOV channels `aux`
-    /// (empty without AOVs).
+    /// (empty without AOVs). It forgets the run last
+    /// [`weigh`](Self::weigh)ed.
     pub fn add(&mut self, x: u32, u: Vec2, l: Color, aux: &[f32], acc: &Accumulator) {
+        self.run_m = 0;
+        self.add_sample(None, x, u, l, aux, acc);
+    }
+
+    /// Weigh a run of samples at in-pixel positions `us` together: the
+    /// filter's factors of all their footprints, computed in vector code
+    /// where the filter has it (a Gaussian: about two `exp` a column or
+    /// row, too few per sample to fill the vector lanes one sample at a
+    /// time). [`add_weighed`](Self::add_weighed) then adds them.
+    pub fn weigh(&mut self, us: &[Vec2]) {
+        // A footprint has at most ⌈2r⌉ columns (and rows): u − ½ − r < k ≤
+        // u − ½ + r. (Where rounding gives it one more, the sample is
+        // weighed alone.)
+        let m = (2.0 * self.radius).ceil() as usize;
+        self.run_m = 0;
+        if self.pixel_box || !self.filter.has_lanes() || m > MAX_RUN_FOOTPRINT {
+            return;
+        }
+        let n = us.len();
+        self.run_offsets.resize(2 * m * n, 0.0);
+        self.run_weights.resize(2 * m * n, 0.0);
+        match self.isa {
+            // SAFETY: `isa` is `Avx2` or `Avx512` only where the CPU has
+            // AVX2.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 | Isa::Avx512 => unsafe { footprint_offsets_avx2(us, self.radius, m, &mut self.run_offsets) },
+            _ => footprint_offsets(us, self.radius, m, &mut self.run_offsets),
+        }
+        self.filter.evaluate_many(&self.run_offsets, &mut self.run_weights);
+        (self.run_m, self.run_len) = (m, n);
+    }
+
+    /// Add sample `lane` of the run last [`weigh`](Self::weigh)ed, of
+    /// radiance `l` at `u` within pixel `(x, y)` of the band's row, as
+    /// [`add`](Self::add) adds it (the same sums), with the factors
+    /// weighed for it.
+    pub fn add_weighed(&mut self, lane: usize, x: u32, u: Vec2, l: Color, aux: &[f32], acc: &Accumulator) {
+        let lane = (self.run_m > 0).then(|| {
+            assert!(lane < self.run_len, "sample {lane} of a run of {}", self.run_len);
+            lane
+        });
+        self.add_sample(lane, x, u, l, aux, acc);
+    }
+
+    /// The body of [`add`](Self::add) and [`add_weighed`](Self::add_weighed).
+    #[inline(always)]
+    fn add_sample(&mut self, lane: Option<usize>, x: u32, u: Vec2, l: Color, aux: &[f32], acc: &Accumulator) {
         if self.pixel_box {
             self.add_at(0, x as usize, l, aux, 1.0);
             return;
         }
-        #[cfg(target_arch = "x86_64")]
-        if self.avx2 {
-            // SAFETY: `avx2` is set only where the CPU has AVX2.
-            return unsafe { self.add_footprint_avx2(x, u, l, aux, acc) };
+        match self.isa {
+            // SAFETY: `isa` is `Avx512` only where the CPU has its features.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => unsafe { self.add_footprint_avx512(lane, x, u, l, aux, acc) },
+            // SAFETY: `isa` is `Avx2` only where the CPU has AVX2.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => unsafe { self.add_footprint_avx2(lane, x, u, l, aux, acc) },
+            _ => self.add_footprint::<PORTABLE>(lane, x, u, l, aux, acc),
         }
-        self.add_footprint::<false>(x, u, l, aux, acc);
     }
 
     /// [`add_footprint`](Self::add_footprint) compiled for AVX2: the same
@@ -159,13 +272,51 @@ impl SplatBand {
     /// The CPU must have AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn add_footprint_avx2(&mut self, x: u32, u: Vec2, l: Color, aux: &[f32], acc: &Accumulator) {
-        self.add_footprint::<true>(x, u, l, aux, acc);
+    unsafe fn add_footprint_avx2(
+        &mut self,
+        lane: Option<usize>,
+        x: u32,
+        u: Vec2,
+        l: Color,
+        aux: &[f32],
+        acc: &Accumulator,
+    ) {
+        self.add_footprint::<AVX2>(lane, x, u, l, aux, acc);
     }
 
-    /// The body of [`add`](Self::add) for filters wider than the pixel box.
+    /// [`add_footprint`](Self::add_footprint) compiled for AVX-512, whose
+    /// rows of up to four pixels take one kernel call each, not one a
+    /// pixel ([`add_rows_avx512`](Self::add_rows_avx512)): the same sums.
+    ///
+    /// # Safety
+    /// The CPU must have the features of `Isa::Avx512`.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
+    unsafe fn add_footprint_avx512(
+        &mut self,
+        lane: Option<usize>,
+        x: u32,
+        u: Vec2,
+        l: Color,
+        aux: &[f32],
+        acc: &Accumulator,
+    ) {
+        self.add_footprint::<AVX512>(lane, x, u, l, aux, acc);
+    }
+
+    /// The body of [`add`](Self::add) for filters wider than the pixel box,
+    /// with the factors weighed for sample `lane` of a run where it has
+    /// them.
     #[inline(always)]
-    fn add_footprint<const AVX2: bool>(&mut self, x: u32, u: Vec2, l: Color, aux: &[f32], acc: &Accumulator) {
+    fn add_footprint<const BUILD: u8>(
+        &mut self,
+        lane: Option<usize>,
+        x: u32,
+        u: Vec2,
+        l: Color,
+        aux: &[f32],
+        acc: &Accumulator,
+    ) {
         // The footprint: offsets k with u − ½ − r < k ≤ u − ½ + r. The
         // interval is half open, so a box filter of radius ½ puts every
         // sample in exactly its own pixel, and the offsets are computed from
@@ -177,7 +328,7 @@ impl SplatBand {
             let offset = Vec2::splat(0.5) - u;
             let weight = self.filter.evaluate(offset.x) * self.filter.evaluate(offset.y);
             if weight != 0.0 {
-                self.add_at_with::<AVX2>(0, x as usize, l, aux, weight);
+                self.add_at_with::<BUILD>(0, x as usize, l, aux, weight);
             }
             return;
         }
@@ -192,20 +343,47 @@ impl SplatBand {
         let (nx, ny) = ((kx_hi - kx_lo + 1).max(0) as usize, (ky_hi - ky_lo + 1).max(0) as usize);
         let filter = self.filter;
         let band = self.first..self.first + self.rows as i64;
+        // The run's factors of this footprint's columns and rows (from
+        // `sx`, `sy` on, past those clipped away), where they hold them all.
+        let (sx, sy) = ((kx_lo - k_lo.x as i64) as usize, (ky_lo - k_lo.y as i64) as usize);
+        let (m, n) = (self.run_m, self.run_len);
+        let weighed = lane.filter(|_| sx + nx <= m && sy + ny <= m);
+        let run = |i: usize, j: usize| self.run_weights[i * n + j];
+        #[cfg(target_arch = "x86_64")]
+        if let Some(j) = weighed.filter(|_| {
+            BUILD == AVX512
+                && aux.is_empty()
+                && nx <= 4
+                && (1..=4).contains(&ny)
+                && band.contains(&ky_lo)
+                && band.contains(&(ky_lo + ny as i64 - 1))
+        }) {
+            // The common case with AVX-512: a footprint of up to four
+            // columns, all its rows in the band, weighed with its run.
+            let wx: [f32; 4] = std::array::from_fn(|i| if i < nx { run(sx + i, j) } else { 0.0 });
+            let wy: [f32; 4] = std::array::from_fn(|r| if r < ny { run(m + sy + r, j) } else { 0.0 });
+            // SAFETY: `BUILD` is `AVX512` only in `add_footprint_avx512`.
+            unsafe { self.add_rows_avx512(ky_lo, (x + kx_lo) as usize, [nx, ny], l, wx, wy) };
+            return;
+        }
         if nx == 2 && ny == 2 && aux.is_empty() && band.contains(&ky_lo) && band.contains(&(ky_lo + 1)) {
             // The common footprint (a tent of radius 1, a box of radius 1
             // away from the edges): 2 × 2 pixels of the band, without the
             // loops. The same weights, added to the same sums.
-            let x0 = (kx_lo as f32 + 0.5 - u.x, (kx_lo + 1) as f32 + 0.5 - u.x);
-            let wx = [filter.evaluate(x0.0), filter.evaluate(x0.1)];
-            let y0 = (ky_lo as f32 + 0.5 - u.y, (ky_lo + 1) as f32 + 0.5 - u.y);
-            let wy = [filter.evaluate(y0.0), filter.evaluate(y0.1)];
+            let (wx, wy) = match weighed {
+                Some(j) => ([run(sx, j), run(sx + 1, j)], [run(m + sy, j), run(m + sy + 1, j)]),
+                None => {
+                    let x0 = (kx_lo as f32 + 0.5 - u.x, (kx_lo + 1) as f32 + 0.5 - u.x);
+                    let y0 = (ky_lo as f32 + 0.5 - u.y, (ky_lo + 1) as f32 + 0.5 - u.y);
+                    ([filter.evaluate(x0.0), filter.evaluate(x0.1)], [filter.evaluate(y0.0), filter.evaluate(y0.1)])
+                }
+            };
             let px = (x + kx_lo) as usize;
             for (j, wy) in wy.into_iter().enumerate() {
                 for (i, wx) in wx.into_iter().enumerate() {
                     let weight = wx * wy;
                     if weight != 0.0 {
-                        self.add_at_with::<AVX2>(ky_lo + j as i64, px + i, l, aux, weight);
+                        self.add_at_with::<BUILD>(ky_lo + j as i64, px + i, l, aux, weight);
                     }
                 }
             }
@@ -213,7 +391,14 @@ impl SplatBand {
         }
         let column = |i: usize| (kx_lo + i as i64) as f32 + 0.5 - u.x;
         let row = |j: usize| (ky_lo + j as i64) as f32 + 0.5 - u.y;
-        if nx + ny <= 8 {
+        if let Some(j) = weighed {
+            for i in 0..nx {
+                self.wx[i] = self.run_weights[(sx + i) * n + j];
+            }
+            for i in 0..ny {
+                self.wy[i] = self.run_weights[(m + sy + i) * n + j];
+            }
+        } else if nx + ny <= 8 {
             // Columns and rows together in one set of lanes (a Gaussian of
             // radius 1.5 has 3 of each): their factors computed side by
             // side, the values of `evaluate`.
@@ -235,6 +420,13 @@ impl SplatBand {
         for j in 0..ny {
             let (ky, wy) = (ky_lo + j as i64, self.wy[j]);
             let in_band = band.contains(&ky);
+            #[cfg(target_arch = "x86_64")]
+            if BUILD == AVX512 && in_band && aux.is_empty() && nx <= 4 {
+                let wx = std::array::from_fn(|i| if i < nx { self.wx[i] } else { 0.0 });
+                // SAFETY: `BUILD` is `AVX512` only in `add_footprint_avx512`.
+                unsafe { self.add_rows_avx512(ky, (x + kx_lo) as usize, [nx, 1], l, wx, [wy, 0.0, 0.0, 0.0]) };
+                continue;
+            }
             for i in 0..nx {
                 let weight = self.wx[i] * wy;
                 if weight == 0.0 {
@@ -242,11 +434,42 @@ impl SplatBand {
                 }
                 let px = (x + kx_lo) as usize + i;
                 if in_band {
-                    self.add_at_with::<AVX2>(ky, px, l, aux, weight);
+                    self.add_at_with::<BUILD>(ky, px, l, aux, weight);
                 } else {
                     acc.splat_with_aovs(px as u32, (y + ky) as u32, l, aux, weight);
                 }
             }
+        }
+    }
+
+    /// Add a sample of radiance `l` without AOV channels to the footprint
+    /// of `nx ≤ 4` columns from pixel `px` and `ny ≤ 4` rows from the
+    /// band's row `y + k` on (all in the band), with filter weights
+    /// `wx[i]·wy[r]`: the sums of [`add_at`](Self::add_at) for each pixel
+    /// (where a weight is 0 it adds 0, which that skips), a kernel call a
+    /// row ([`add_contributions_avx512`](super::accumulator::add_contributions_avx512)).
+    ///
+    /// # Safety
+    /// The CPU must have the features of `Isa::Avx512`.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
+    unsafe fn add_rows_avx512(
+        &mut self,
+        k: i64,
+        px: usize,
+        [nx, ny]: [usize; 2],
+        l: Color,
+        wx: [f32; 4],
+        wy: [f32; 4],
+    ) {
+        debug_assert_eq!(self.stride, 4, "no AOV channels");
+        for (r, wy) in wy.into_iter().enumerate().take(ny) {
+            let row = (k + r as i64 - self.first) as usize;
+            debug_assert!(row < self.rows, "footprint row {} outside the band", k + r as i64);
+            let i = (row * self.width as usize + px) * 4;
+            let sums = &mut self.sums[i..i + 4 * nx];
+            // SAFETY: the CPU has AVX-512 (this function's contract).
+            unsafe { super::accumulator::add_contributions_avx512(sums, nx, l, wx.map(|wx| wx * wy)) };
         }
     }
 
@@ -307,49 +530,81 @@ mod tests {
     /// for every kind of filter and radius, at the image's edges too.
     #[test]
     fn bands_equal_direct_splats() {
+        // A sample: its pixel's column, its place in the pixel, its
+        // radiance and its AOV channels.
+        type Sample = (u32, Vec2, Color, Vec<f32>);
         let filters = [
             Filter::Box { radius: 0.5 },
             Filter::Box { radius: 1.0 },
             Filter::Tent { radius: 1.0 },
             Filter::Tent { radius: 0.3 },
             Filter::Gaussian { radius: 1.5, sigma: 0.5 },
+            // Footprints of 2, 4 and 5 columns: weighed in runs (the 2 × 2
+            // branch among them), and too wide for a run.
+            Filter::Gaussian { radius: 1.0, sigma: 0.4 },
+            Filter::Gaussian { radius: 2.0, sigma: 0.5 },
+            Filter::Gaussian { radius: 2.5, sigma: 1.0 },
             Filter::Mitchell { radius: 2.0, b: 1.0 / 3.0, c: 1.0 / 3.0 },
             Filter::Lanczos { radius: 3.0, tau: 3.0 },
             // Beyond the band's reach: far rows go straight to the
             // accumulator.
             Filter::Gaussian { radius: 20.0, sigma: 8.0 },
         ];
-        let (w, h) = (7, 40);
+        // Every build the CPU runs, each adding samples one at a time and
+        // in weighed runs (of all a row's pixels, up to 64, and of 5).
+        let mut builds = vec![Isa::Portable];
+        #[cfg(target_arch = "x86_64")]
+        builds.extend([Isa::Avx2, Isa::Avx512].into_iter().filter(|&b| b <= crate::geometry::simd_detected()));
         let aovs = [AovSet::NONE, AovSet::of(&[Aov::Albedo, Aov::Depth])];
         for (filter, aovs) in filters.iter().flat_map(|f| aovs.map(|a| (f, a))) {
-            let direct = Accumulator::with_aovs(w, h, aovs).unwrap();
-            let banded = Accumulator::with_aovs(w, h, aovs).unwrap();
-            let mut band = SplatBand::new(filter, w, h, banded.stride());
+            // A row wider than a run, but few rows for the widest filter.
+            let (w, h) = if filter.radius() > 3.0 { (7, 40) } else { (70, 9) };
             let mut rng = Pcg32::new(3, 1);
-            for y in 0..h {
-                band.start_row(y);
-                for x in 0..w {
-                    for _ in 0..6 {
-                        let u = Vec2::new(rng.uniform(), rng.uniform());
-                        let l = Color::new(rng.uniform(), 2.0 * rng.uniform(), 0.5);
-                        let aux: Vec<f32> = (0..aovs.channel_count()).map(|_| 10.0 * rng.uniform() - 2.0).collect();
-                        splat_directly(&direct, filter, x, y, u, l, &aux);
-                        band.add(x, u, l, &aux, &banded);
-                    }
+            // Each row's samples, six a pixel, in the renderer's order:
+            // a sample index at a time across the row.
+            let rows: Vec<Vec<Sample>> = (0..h)
+                .map(|_| {
+                    (0..6 * w)
+                        .map(|i| {
+                            let u = Vec2::new(rng.uniform(), rng.uniform());
+                            let l = Color::new(rng.uniform(), 2.0 * rng.uniform(), 0.5);
+                            let aux = (0..aovs.channel_count()).map(|_| 10.0 * rng.uniform() - 2.0).collect();
+                            (i % w, u, l, aux)
+                        })
+                        .collect()
+                })
+                .collect();
+            let direct = Accumulator::with_aovs(w, h, aovs).unwrap();
+            for (y, row) in rows.iter().enumerate() {
+                for (x, u, l, aux) in row {
+                    splat_directly(&direct, filter, *x, y as u32, *u, *l, aux);
                 }
-                band.flush(&banded);
             }
             assert!(direct.raw().iter().any(|&s| s != 0));
-            assert_eq!(direct.raw(), banded.raw(), "{filter:?}");
+            for (&build, run) in builds.iter().flat_map(|b| [None, Some(64), Some(5)].map(|r| (b, r))) {
+                let banded = Accumulator::with_aovs(w, h, aovs).unwrap();
+                let mut band = SplatBand::new(filter, w, h, banded.stride());
+                band.isa = build;
+                for (y, row) in rows.iter().enumerate() {
+                    band.start_row(y as u32);
+                    for samples in row.chunks(run.unwrap_or(1).min(w as usize)) {
+                        if run.is_some() {
+                            band.weigh(&samples.iter().map(|s| s.1).collect::<Vec<_>>());
+                        }
+                        for (j, (x, u, l, aux)) in samples.iter().enumerate() {
+                            match run {
+                                None => band.add(*x, *u, *l, aux, &banded),
+                                Some(_) => band.add_weighed(j, *x, *u, *l, aux, &banded),
+                            }
+                        }
+                    }
+                    band.flush(&banded);
+                }
+                assert_eq!(direct.raw(), banded.raw(), "{filter:?}, {aovs:?}, {build:?}, runs of {run:?}");
+            }
         }
     }
 
-    /// Splats add their whole value to the light image on average over
-    /// where they land (the weights at pixel centres sum to the filter's
-    /// integral only on average), and an edge pixel's weights are
-    /// normalised over the part of the filter inside the image: a uniform
-    /// spray of splats gives every pixel the same value, edges and corners
-    /// included, as a uniform image's camera samples would.
     #[test]
     fn light_splats_are_normalised_inside_the_image() {
         use crate::film::AovSet;

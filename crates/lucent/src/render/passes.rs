@@ -293,6 +293,9 @@ impl<I: Integrator> Pass<'_, I> {
                                     aovs.write(&visible_surface(self.scene, ray, &mut stats), &mut out[..channels]);
                                 }
                             }
+                            if fis.is_none() {
+                                band.weigh(&film_u[..n]);
+                            }
                             for j in 0..n {
                                 let l = radiance[j];
                                 if !l.is_finite() {
@@ -312,7 +315,7 @@ impl<I: Integrator> Pass<'_, I> {
                                 if fis.is_some() {
                                     band.add_own(run[j], l, aux, fis_weight[j]);
                                 } else {
-                                    band.add(run[j], film_u[j], l, aux, self.acc);
+                                    band.add_weighed(j, run[j], film_u[j], l, aux, self.acc);
                                 }
                             }
                         }
