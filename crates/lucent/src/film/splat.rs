@@ -539,8 +539,10 @@ mod tests {
             Filter::Tent { radius: 1.0 },
             Filter::Tent { radius: 0.3 },
             Filter::Gaussian { radius: 1.5, sigma: 0.5 },
-            // Footprints of 2, 4 and 5 columns: weighed in runs (the 2 × 2
-            // branch among them), and too wide for a run.
+            // Footprints of at most 1, 2, 4 and 5 columns: weighed in runs
+            // (the 2 × 2 branch among them, and empty footprints), and too
+            // wide for a run.
+            Filter::Gaussian { radius: 0.3, sigma: 0.2 },
             Filter::Gaussian { radius: 1.0, sigma: 0.4 },
             Filter::Gaussian { radius: 2.0, sigma: 0.5 },
             Filter::Gaussian { radius: 2.5, sigma: 1.0 },
