@@ -352,7 +352,7 @@ impl SplatBand {
         #[cfg(target_arch = "x86_64")]
         if let Some(j) = weighed.filter(|_| {
             BUILD == AVX512
-                && aux.is_empty()
+                && self.stride == 4
                 && nx <= 4
                 && (1..=4).contains(&ny)
                 && band.contains(&ky_lo)
@@ -421,7 +421,7 @@ impl SplatBand {
             let (ky, wy) = (ky_lo + j as i64, self.wy[j]);
             let in_band = band.contains(&ky);
             #[cfg(target_arch = "x86_64")]
-            if BUILD == AVX512 && in_band && aux.is_empty() && nx <= 4 {
+            if BUILD == AVX512 && in_band && self.stride == 4 && nx <= 4 {
                 let wx = std::array::from_fn(|i| if i < nx { self.wx[i] } else { 0.0 });
                 // SAFETY: `BUILD` is `AVX512` only in `add_footprint_avx512`.
                 unsafe { self.add_rows_avx512(ky, (x + kx_lo) as usize, [nx, 1], l, wx, [wy, 0.0, 0.0, 0.0]) };
@@ -442,9 +442,9 @@ impl SplatBand {
         }
     }
 
-    /// Add a sample of radiance `l` without AOV channels to the footprint
-    /// of `nx ≤ 4` columns from pixel `px` and `ny ≤ 4` rows from the
-    /// band's row `y + k` on (all in the band), with filter weights
+    /// Add a sample of radiance `l` to the footprint of `nx ≤ 4` columns
+    /// from pixel `px` and `ny ≤ 4` rows from the band's row `y + k` on
+    /// (all in the band, of four sums a pixel), with filter weights
     /// `wx[i]·wy[r]`: the sums of [`add_at`](Self::add_at) for each pixel
     /// (where a weight is 0 it adds 0, which that skips), a kernel call a
     /// row ([`add_contributions_avx512`](super::accumulator::add_contributions_avx512)).
@@ -462,7 +462,7 @@ impl SplatBand {
         wx: [f32; 4],
         wy: [f32; 4],
     ) {
-        debug_assert_eq!(self.stride, 4, "no AOV channels");
+        assert_eq!(self.stride, 4, "four sums a pixel: no AOV channels, no light image");
         for (r, wy) in wy.into_iter().enumerate().take(ny) {
             let row = (k + r as i64 - self.first) as usize;
             debug_assert!(row < self.rows, "footprint row {} outside the band", k + r as i64);
@@ -557,7 +557,9 @@ mod tests {
         let mut builds = vec![Isa::Portable];
         #[cfg(target_arch = "x86_64")]
         builds.extend([Isa::Avx2, Isa::Avx512].into_iter().filter(|&b| b <= crate::geometry::simd_detected()));
-        let aovs = [AovSet::NONE, AovSet::of(&[Aov::Albedo, Aov::Depth])];
+        // Without AOVs, with two, and with a light image alone (three sums
+        // a pixel that the band carries and the samples leave at 0).
+        let aovs = [AovSet::NONE, AovSet::of(&[Aov::Albedo, Aov::Depth]), AovSet::NONE.with_light_image()];
         for (filter, aovs) in filters.iter().flat_map(|f| aovs.map(|a| (f, a))) {
             // A row wider than a run, but few rows for the widest filter.
             let (w, h) = if filter.radius() > 3.0 { (7, 40) } else { (70, 9) };
