@@ -428,8 +428,9 @@ pub(super) unsafe fn add_contribution_avx2(sums: &mut [i64; 4], l: Color, w: f32
 /// in AVX-512: the same IEEE operations as the scalar definition, sixteen
 /// values at a time. The weight rides in the fourth lane of each pixel as
 /// `1 · w` (exact, and inside the clamp: `|w| ≤ MAX_CONTRIBUTION`), and
-/// `vcvttpd2qq` truncates towards zero as `as i64` does. Pixels past `n`
-/// are neither read nor written.
+/// `vcvttpd2qq` truncates towards zero as `as i64` does. Pixels of weight
+/// 0 add nothing (where the scalar callers skip them); pixels past `n` are
+/// neither read nor written.
 ///
 /// # Safety
 /// The CPU must have AVX-512 F, DQ and VL.
@@ -446,6 +447,10 @@ pub(super) unsafe fn add_contributions_avx512(sums: &mut [i64], n: usize, l: Col
     let max = _mm512_set1_ps(MAX_CONTRIBUTION);
     // glam's clamp: max, then min (a NaN becomes −MAX_CONTRIBUTION in both).
     let wl = _mm512_min_ps(_mm512_max_ps(_mm512_mul_ps(colour, weights), _mm512_set1_ps(-MAX_CONTRIBUTION)), max);
+    // A pixel of weight 0 adds nothing, as the callers of the scalar
+    // definition skip it (even where `l` is not finite: 0·∞ clamps to
+    // −MAX_CONTRIBUTION).
+    let wl = _mm512_maskz_mov_ps(_mm512_cmp_ps_mask::<_CMP_NEQ_UQ>(weights, _mm512_setzero_ps()), wl);
     let halves = [_mm512_castps512_ps256(wl), _mm512_extractf32x8_ps::<1>(wl)];
     for (k, half) in halves.into_iter().enumerate() {
         // Pixels 2k and 2k + 1.
@@ -544,7 +549,8 @@ mod tests {
     }
 
     /// The AVX-512 row kernel adds each of its first `n` pixels'
-    /// [`fixed_contribution`] and leaves the sums after them alone.
+    /// [`fixed_contribution`] (none for a weight of 0) and leaves the sums
+    /// after them alone.
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn avx512_rows_equal_the_scalar_contributions() {
@@ -573,7 +579,8 @@ mod tests {
                 }
             });
             let n = i % 5;
-            for p in 0..n {
+            // (A weight of 0 is skipped, as the band's scalar loops skip it.)
+            for p in (0..n).filter(|&p| w[p] != 0.0) {
                 for (e, v) in expect[4 * p..4 * p + 4].iter_mut().zip(fixed_contribution(l, w[p])) {
                     *e = e.wrapping_add(v);
                 }

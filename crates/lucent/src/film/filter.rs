@@ -35,7 +35,6 @@
 //! defaults are [`Filter::pbrt_default`]; pbrt-v4 allows a different
 //! `xradius` and `yradius`, lucent's filters are square.
 
-#[cfg(target_arch = "x86_64")]
 use crate::geometry::{isa, Isa};
 use crate::sampling::tent;
 use glam::Vec2;
@@ -281,10 +280,18 @@ impl Filter1d {
     /// filters' one by one.
     #[inline]
     pub(super) fn evaluate_many(&self, x: &[f32], out: &mut [f32]) {
+        self.evaluate_many_as(isa(), x, out);
+    }
+
+    /// [`Filter1d::evaluate_many`] in the build for `build` (or the best
+    /// the CPU has, if it lacks that one): the same values in every build.
+    pub(super) fn evaluate_many_as(&self, build: Isa, x: &[f32], out: &mut [f32]) {
         assert_eq!(x.len(), out.len(), "one weight per offset");
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = build;
         #[cfg(target_arch = "x86_64")]
         if matches!(self.filter, Filter::Gaussian { .. }) {
-            match isa() {
+            match build.min(crate::geometry::simd_detected()) {
                 // SAFETY: `isa` found the features of `Isa::Avx512`.
                 Isa::Avx512 => return unsafe { self.gaussian_many_avx512(x, out) },
                 // SAFETY: `isa` found AVX2.
@@ -297,14 +304,11 @@ impl Filter1d {
         }
     }
 
-    /// Whether [`Filter1d::evaluate_many`] computes several weights for
-    /// less than as many calls of [`Filter1d::evaluate`]: a Gaussian on a
-    /// CPU with AVX2.
-    pub(super) fn has_lanes(&self) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        return matches!(self.filter, Filter::Gaussian { .. }) && matches!(isa(), Isa::Avx2 | Isa::Avx512);
-        #[cfg(not(target_arch = "x86_64"))]
-        false
+    /// Whether [`Filter1d::evaluate_many_as`] `build` computes several
+    /// weights for less than as many calls of [`Filter1d::evaluate`]: a
+    /// Gaussian in the AVX2 or AVX-512 build.
+    pub(super) fn has_lanes(&self, build: Isa) -> bool {
+        cfg!(target_arch = "x86_64") && matches!(self.filter, Filter::Gaussian { .. }) && build >= Isa::Avx2
     }
 
     /// The Gaussian's [`Filter1d::evaluate_many`] in AVX2: four offsets a

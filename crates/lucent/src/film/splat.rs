@@ -29,6 +29,7 @@ use crate::geometry::{Isa, Vec2};
 /// AVX2, AVX-512.
 const PORTABLE: u8 = 0;
 const AVX2: u8 = 1;
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 const AVX512: u8 = 2;
 
 /// The offsets of [`SplatBand::add_footprint`]'s columns and rows from
@@ -150,6 +151,7 @@ impl SplatBand {
     /// Empty the band for the samples of row `y`.
     pub fn start_row(&mut self, y: u32) {
         self.y = y;
+        self.run_m = 0;
         self.sums.fill(0);
     }
 
@@ -217,7 +219,7 @@ impl SplatBand {
         // weighed alone.)
         let m = (2.0 * self.radius).ceil() as usize;
         self.run_m = 0;
-        if self.pixel_box || !self.filter.has_lanes() || m > MAX_RUN_FOOTPRINT {
+        if self.pixel_box || !self.filter.has_lanes(self.isa) || m > MAX_RUN_FOOTPRINT {
             return;
         }
         let n = us.len();
@@ -230,14 +232,14 @@ impl SplatBand {
             Isa::Avx2 | Isa::Avx512 => unsafe { footprint_offsets_avx2(us, self.radius, m, &mut self.run_offsets) },
             _ => footprint_offsets(us, self.radius, m, &mut self.run_offsets),
         }
-        self.filter.evaluate_many(&self.run_offsets, &mut self.run_weights);
+        self.filter.evaluate_many_as(self.isa, &self.run_offsets, &mut self.run_weights);
         (self.run_m, self.run_len) = (m, n);
     }
 
-    /// Add sample `lane` of the run last [`weigh`](Self::weigh)ed, of
-    /// radiance `l` at `u` within pixel `(x, y)` of the band's row, as
-    /// [`add`](Self::add) adds it (the same sums), with the factors
-    /// weighed for it.
+    /// Add sample `lane` of the run last [`weigh`](Self::weigh)ed in this
+    /// row (`u` must be the `us[lane]` weighed), of radiance `l` at `u`
+    /// within pixel `(x, y)` of the band's row, as [`add`](Self::add) adds
+    /// it (the same sums), with the factors weighed for it.
     pub fn add_weighed(&mut self, lane: usize, x: u32, u: Vec2, l: Color, aux: &[f32], acc: &Accumulator) {
         let lane = (self.run_m > 0).then(|| {
             assert!(lane < self.run_len, "sample {lane} of a run of {}", self.run_len);
@@ -554,6 +556,7 @@ mod tests {
         ];
         // Every build the CPU runs, each adding samples one at a time and
         // in weighed runs (of all a row's pixels, up to 64, and of 5).
+        #[cfg_attr(not(target_arch = "x86_64"), allow(unused_mut))]
         let mut builds = vec![Isa::Portable];
         #[cfg(target_arch = "x86_64")]
         builds.extend([Isa::Avx2, Isa::Avx512].into_iter().filter(|&b| b <= crate::geometry::simd_detected()));
@@ -570,8 +573,20 @@ mod tests {
                 .map(|_| {
                     (0..6 * w)
                         .map(|i| {
-                            let u = Vec2::new(rng.uniform(), rng.uniform());
-                            let l = Color::new(rng.uniform(), 2.0 * rng.uniform(), 0.5);
+                            // Now and then a sample at a pixel's corner or
+                            // middle, where footprint columns and rows at
+                            // the radius weigh 0, and one of infinite
+                            // radiance (0·∞ must not reach a sum).
+                            let u = match i % 13 {
+                                0 => Vec2::new(0.0, 0.5),
+                                1 => Vec2::new(0.5, 0.0),
+                                _ => Vec2::new(rng.uniform(), rng.uniform()),
+                            };
+                            let l = if i % 17 == 0 {
+                                Color::new(f32::INFINITY, 1.0, 0.5)
+                            } else {
+                                Color::new(rng.uniform(), 2.0 * rng.uniform(), 0.5)
+                            };
                             let aux = (0..aovs.channel_count()).map(|_| 10.0 * rng.uniform() - 2.0).collect();
                             (i % w, u, l, aux)
                         })

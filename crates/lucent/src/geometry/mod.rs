@@ -20,7 +20,7 @@ pub use float::{gamma, hypot, offset_ray_origin, MACHINE_EPSILON};
 pub use frame::{coordinate_system, coordinate_system_lane, gram_schmidt, Frame};
 pub use lanes::{group, set_group, Vec3Lanes, GROUP, LANES};
 pub use ray::Ray;
-#[cfg(all(test, target_arch = "x86_64"))]
+#[cfg(target_arch = "x86_64")]
 pub(crate) use simd::detect as simd_detected;
 pub(crate) use simd::isa;
 pub use simd::traversal_isa;
