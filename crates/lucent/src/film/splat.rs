@@ -448,7 +448,7 @@ impl SplatBand {
     /// from pixel `px` and `ny ≤ 4` rows from the band's row `y + k` on
     /// (all in the band, of four sums a pixel), with filter weights
     /// `wx[i]·wy[r]`: the sums of [`add_at`](Self::add_at) for each pixel
-    /// (where a weight is 0 it adds 0, which that skips), a kernel call a
+    /// (a weight of 0 adds nothing, as there), a kernel call a
     /// row ([`add_contributions_avx512`](super::accumulator::add_contributions_avx512)).
     ///
     /// # Safety
