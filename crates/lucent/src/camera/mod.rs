@@ -6,6 +6,7 @@
 //! and a [`Projection`] (see `projection.rs` for pbrt's conventions).
 
 mod importance;
+mod lanes;
 mod projection;
 
 pub use importance::ImportanceSample;

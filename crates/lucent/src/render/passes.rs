@@ -184,7 +184,7 @@ impl<I: Integrator> Pass<'_, I> {
         let done = AtomicUsize::new(0);
         let settings = self.settings;
         let camera = self.scene.camera();
-        // A pinhole camera ignores its lens sample: skip drawing it.
+        // A pinhole camera ignores its lens sample: skip computing it.
         let has_lens = camera.lens().is_some();
         let (film_scale, max_component) = (settings.film_scale, settings.max_component);
         // Auxiliary images: each camera ray's visible surface, splatted
@@ -231,16 +231,23 @@ impl<I: Integrator> Pass<'_, I> {
                     xs.extend((0..w).filter(|&x| self.acc.is_active(x, y)));
                     let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); PATH_LANES];
                     let mut film_u = [Vec2::ZERO; PATH_LANES];
+                    let mut film_pos = [Vec2::ZERO; PATH_LANES];
+                    let mut lens_u = [Vec2::ZERO; PATH_LANES];
                     let mut fis_weight = [1.0f32; PATH_LANES];
                     let mut radiance = [Color::ZERO; PATH_LANES];
                     for run in xs.chunks(PATH_LANES) {
                         let n = run.len();
                         for index in first..first + self.spp {
-                            for j in 0..n {
-                                let (x, sampler) = (run[j], &mut samplers[j]);
+                            // The camera rays, a stage at a time across the
+                            // run: each lane's sample values, film positions,
+                            // then the rays.
+                            for (sampler, &x) in samplers.iter_mut().zip(run) {
                                 sampler.start_pixel_sample(x, y, index);
-                                let u = sampler.pixel_2d();
-                                let film_pos = match &fis {
+                            }
+                            Sampler::camera_lanes(&mut samplers[..n], has_lens, &mut film_u[..n], &mut lens_u[..n]);
+                            for j in 0..n {
+                                let (x, u) = (run[j], film_u[j]);
+                                film_pos[j] = match &fis {
                                     None => Vec2::new(x as f32, y as f32) + u,
                                     Some(fis) => {
                                         let s = fis.sample(u);
@@ -248,15 +255,8 @@ impl<I: Integrator> Pass<'_, I> {
                                         Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + s.offset
                                     }
                                 };
-                                let lens = if has_lens {
-                                    sampler.get_2d()
-                                } else {
-                                    sampler.skip_2d();
-                                    Vec2::ZERO
-                                };
-                                rays[j] = camera.generate_ray(film_pos, lens);
-                                film_u[j] = u;
                             }
+                            camera.generate_rays(&film_pos[..n], &lens_u[..n], &mut rays[..n]);
                             if splats {
                                 for j in 0..n {
                                     radiance[j] = self.integrator.li_splat(

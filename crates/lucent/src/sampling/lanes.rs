@@ -41,7 +41,7 @@ const KERNEL_LANES: usize = 16;
 
 /// The inputs of [`sobol_vertices`], lane by lane: each path's premixed
 /// sample index, its pixel's hash and the vertex's first dimension
-/// ([`Sampler::sobol_vertex_state`]).
+/// ([`Sampler::sobol_state`]).
 #[derive(Clone, Copy, Default)]
 struct SobolLanes {
     index_premixed: [u32; KERNEL_LANES],
@@ -69,7 +69,7 @@ impl Sampler {
             }
             let mut input = SobolLanes::default();
             for (k, &lane) in group.iter().enumerate().take(KERNEL_LANES) {
-                let (index_premixed, pixel_hash, dimension) = samplers[lane as usize].sobol_vertex_state();
+                let (index_premixed, pixel_hash, dimension) = samplers[lane as usize].sobol_state(5);
                 input.index_premixed[k] = index_premixed;
                 input.pixel_hash[k] = pixel_hash;
                 input.dimension[k] = dimension;
@@ -87,6 +87,101 @@ impl Sampler {
             }
         }
     }
+}
+
+impl Sampler {
+    /// The camera's dimensions of every sampler, each just started on its
+    /// pixel sample ([`Sampler::start_pixel_sample`]): `film[i]` the
+    /// position in the pixel ([`Sampler::pixel_2d`]), and `lens[i]` the
+    /// lens sample ([`Sampler::get_2d`]) if `has_lens`, else zero, its
+    /// dimension skipped ([`Sampler::skip_2d`]). The same values as drawn
+    /// one by one; the Sobol sampler's are computed sixteen lanes at a
+    /// time, as [`Sampler::vertex_lanes`] does.
+    pub fn camera_lanes(samplers: &mut [Sampler], has_lens: bool, film: &mut [Vec2], lens: &mut [Vec2]) {
+        for ((samplers, film), lens) in
+            samplers.chunks_mut(KERNEL_LANES).zip(film.chunks_mut(KERNEL_LANES)).zip(lens.chunks_mut(KERNEL_LANES))
+        {
+            if !samplers.iter().all(|s| s.kind() == SamplerKind::Sobol) {
+                for ((sampler, film), lens) in samplers.iter_mut().zip(film).zip(lens) {
+                    *film = sampler.pixel_2d();
+                    *lens = if has_lens {
+                        sampler.get_2d()
+                    } else {
+                        sampler.skip_2d();
+                        Vec2::ZERO
+                    };
+                }
+                continue;
+            }
+            let mut input = SobolLanes::default();
+            for (k, sampler) in samplers.iter_mut().enumerate() {
+                let (index_premixed, pixel_hash, dimension) = sampler.sobol_state(2);
+                input.index_premixed[k] = index_premixed;
+                input.pixel_hash[k] = pixel_hash;
+                input.dimension[k] = dimension;
+                sampler.keep_seeds(2);
+            }
+            let values = sobol_camera(&input, has_lens);
+            for (k, (film, lens)) in film.iter_mut().zip(lens).enumerate() {
+                *film = Vec2::new(values[0][k], values[1][k]);
+                *lens = Vec2::new(values[2][k], values[3][k]);
+            }
+        }
+    }
+}
+
+/// The camera's Sobol values of every lane (film x, y; lens x, y, zero
+/// without a lens), in the best build the CPU runs (all give the same
+/// bits).
+#[inline]
+fn sobol_camera(input: &SobolLanes, has_lens: bool) -> CameraValues {
+    match isa() {
+        // SAFETY: `isa` found the features of `Isa::Avx512`.
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx512 => unsafe { sobol_camera_avx512(input, has_lens) },
+        // SAFETY: `isa` found the features of `Isa::Avx2`.
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx2 => unsafe { sobol_camera_avx2(input, has_lens) },
+        _ => sobol_camera_portable(input, has_lens),
+    }
+}
+
+/// The four camera values of a sample, lane by lane: film x and y, lens x
+/// and y.
+type CameraValues = [[f32; KERNEL_LANES]; 4];
+
+/// [`sobol_camera_portable`] compiled for AVX2.
+///
+/// # Safety
+/// The CPU must have the features of `Isa::Avx2`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+unsafe fn sobol_camera_avx2(input: &SobolLanes, has_lens: bool) -> CameraValues {
+    sobol_camera_portable(input, has_lens)
+}
+
+/// [`sobol_camera_portable`] compiled for AVX-512 (see
+/// [`sobol_vertices_avx512`]).
+///
+/// # Safety
+/// The CPU must have the features of `Isa::Avx512`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt,avx512f,avx512vl,avx512bw,avx512dq")]
+unsafe fn sobol_camera_avx512(input: &SobolLanes, has_lens: bool) -> CameraValues {
+    sobol_camera_portable(input, has_lens)
+}
+
+/// The definition: the film position's dimension and, with a lens, the
+/// lens sample's, each by [`sobol_dimension`].
+#[inline(always)]
+fn sobol_camera_portable(input: &SobolLanes, has_lens: bool) -> CameraValues {
+    let mut out = [[0.0f32; KERNEL_LANES]; 4];
+    let [film_x, film_y, lens_x, lens_y] = &mut out;
+    sobol_dimension(input, 0, film_x, Some(film_y));
+    if has_lens {
+        sobol_dimension(input, 1, lens_x, Some(lens_y));
+    }
+    out
 }
 
 /// The Sobol values of a vertex for every lane, in the best build the CPU
@@ -127,42 +222,50 @@ unsafe fn sobol_vertices_avx512(input: &SobolLanes) -> VertexValues {
     sobol_vertices_portable(input)
 }
 
-/// The definition: for each of the five dimensions `d`, its scramble seeds
-/// hashed from (pixel, `d`) ([`dimension_hash_xy`], and
-/// [`dimension_hash_y`] for the 2D ones), the shuffled index
-/// `j = reverse(lk_seeded(index_premixed, h_index))`, its first coordinate
-/// `reverse(lk_seeded(lk_premix(j), h_x))`, and for the two 2D dimensions
-/// its second, `reverse(lk_seeded(lk_premix(sobol_1_reversed(j)), h_y))`
-/// (the steps of [`Sampler::get_1d`] and [`Sampler::get_2d`]), each step a
-/// loop over the lanes.
+/// The definition: the five dimensions of a vertex, each by
+/// [`sobol_dimension`].
 #[inline(always)]
 fn sobol_vertices_portable(input: &SobolLanes) -> VertexValues {
     let mut out = [[0.0f32; KERNEL_LANES]; 7];
-    let mut o = 0;
-    for k in 0..5u32 {
-        // The seeds: index shuffle (low half) and first coordinate (high).
-        let mut h = [0u64; KERNEL_LANES];
-        for ((h, &ph), &d) in h.iter_mut().zip(&input.pixel_hash).zip(&input.dimension) {
-            *h = dimension_hash_xy(ph, d.wrapping_add(k));
-        }
-        let mut j = [0u32; KERNEL_LANES];
-        for ((j, &ip), &h) in j.iter_mut().zip(&input.index_premixed).zip(&h) {
-            *j = lk_seeded(ip, h as u32).reverse_bits();
-        }
-        for ((v, &j), &h) in out[o].iter_mut().zip(&j).zip(&h) {
-            *v = to_unit_float(lk_seeded(lk_premix(j), (h >> 32) as u32).reverse_bits());
-        }
-        o += 1;
-        // Dimensions 1 (point on the light) and 3 (direction) are 2D.
-        if k == 1 || k == 3 {
-            for ((v, &j), &h) in out[o].iter_mut().zip(&j).zip(&h) {
-                let h_y = dimension_hash_y(h);
-                *v = to_unit_float(lk_seeded(lk_premix(sobol_1_reversed(j)), h_y).reverse_bits());
-            }
-            o += 1;
+    let [light, point_x, point_y, lobe, dir_x, dir_y, rr] = &mut out;
+    // Dimensions 1 (point on the light) and 3 (direction) are 2D.
+    sobol_dimension(input, 0, light, None);
+    sobol_dimension(input, 1, point_x, Some(point_y));
+    sobol_dimension(input, 2, lobe, None);
+    sobol_dimension(input, 3, dir_x, Some(dir_y));
+    sobol_dimension(input, 4, rr, None);
+    out
+}
+
+/// Dimension `input.dimension + k` of every lane: its first coordinate
+/// into `x`, and for a 2D dimension its second into `y`. Its scramble
+/// seeds are hashed from (pixel, dimension) ([`dimension_hash_xy`], and
+/// [`dimension_hash_y`] for the second coordinate); then the shuffled
+/// index `j = reverse(lk_seeded(index_premixed, h_index))`, the first
+/// coordinate `reverse(lk_seeded(lk_premix(j), h_x))` and the second
+/// `reverse(lk_seeded(lk_premix(sobol_1_reversed(j)), h_y))` (the steps of
+/// [`Sampler::get_1d`] and [`Sampler::get_2d`]), each step a loop over the
+/// lanes.
+#[inline(always)]
+fn sobol_dimension(input: &SobolLanes, k: u32, x: &mut [f32; KERNEL_LANES], y: Option<&mut [f32; KERNEL_LANES]>) {
+    // The seeds: index shuffle (low half) and first coordinate (high).
+    let mut h = [0u64; KERNEL_LANES];
+    for ((h, &ph), &d) in h.iter_mut().zip(&input.pixel_hash).zip(&input.dimension) {
+        *h = dimension_hash_xy(ph, d.wrapping_add(k));
+    }
+    let mut j = [0u32; KERNEL_LANES];
+    for ((j, &ip), &h) in j.iter_mut().zip(&input.index_premixed).zip(&h) {
+        *j = lk_seeded(ip, h as u32).reverse_bits();
+    }
+    for ((v, &j), &h) in x.iter_mut().zip(&j).zip(&h) {
+        *v = to_unit_float(lk_seeded(lk_premix(j), (h >> 32) as u32).reverse_bits());
+    }
+    if let Some(y) = y {
+        for ((v, &j), &h) in y.iter_mut().zip(&j).zip(&h) {
+            let h_y = dimension_hash_y(h);
+            *v = to_unit_float(lk_seeded(lk_premix(sobol_1_reversed(j)), h_y).reverse_bits());
         }
     }
-    out
 }
 
 #[cfg(test)]
@@ -212,6 +315,49 @@ mod tests {
         }
     }
 
+    /// The camera's dimensions in lanes equal `pixel_2d` then `get_2d` or
+    /// `skip_2d`, one by one; the samplers stand at the same dimension
+    /// after, with the same seeds kept (so later draws one by one agree).
+    #[test]
+    fn camera_lanes_equal_one_by_one() {
+        for kind in [SamplerKind::Sobol, SamplerKind::Independent, SamplerKind::Stratified] {
+            for n in [1, 5, 16, 37, 64] {
+                for has_lens in [false, true] {
+                    let mut lanes: Vec<Sampler> = (0..n).map(|_| Sampler::new(kind, 23, 16)).collect();
+                    let mut one = lanes.clone();
+                    // Three sample indices of the same pixels (the seeds
+                    // tables filled on the first), then other pixels.
+                    for (round, index) in [0u32, 1, 7, 3].into_iter().enumerate() {
+                        let pixel = |i: usize| (i as u32 + 40 * (round as u32 / 3), round as u32 / 3);
+                        for (i, (a, b)) in lanes.iter_mut().zip(&mut one).enumerate() {
+                            let (x, y) = pixel(i);
+                            a.start_pixel_sample(x, y, index);
+                            b.start_pixel_sample(x, y, index);
+                        }
+                        let mut film = vec![Vec2::splat(-1.0); n];
+                        let mut lens = vec![Vec2::splat(-1.0); n];
+                        Sampler::camera_lanes(&mut lanes, has_lens, &mut film, &mut lens);
+                        for i in 0..n {
+                            let s = &mut one[i];
+                            assert_eq!(film[i], s.pixel_2d(), "{kind:?}, lane {i} of {n}");
+                            let l = if has_lens {
+                                s.get_2d()
+                            } else {
+                                s.skip_2d();
+                                Vec2::ZERO
+                            };
+                            assert_eq!(lens[i], l, "{kind:?}, lane {i} of {n}, lens {has_lens}");
+                        }
+                        for (a, b) in lanes.iter_mut().zip(&mut one) {
+                            assert_eq!(a.kept_seeds(), b.kept_seeds(), "{kind:?}: the kept seeds");
+                            assert_eq!(a.vertex(), b.vertex(), "{kind:?}: the next dimensions");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// Every build the CPU runs gives the portable build's bits, over many
     /// random inputs.
     #[test]
@@ -227,16 +373,28 @@ mod tests {
             }
             let portable = sobol_vertices_portable(&input);
             assert_eq!(sobol_vertices(&input), portable);
+            let camera = [false, true].map(|lens| sobol_camera_portable(&input, lens));
+            for lens in [false, true] {
+                assert_eq!(sobol_camera(&input, lens), camera[lens as usize]);
+            }
             #[cfg(target_arch = "x86_64")]
             {
                 let best = crate::geometry::simd_detected();
                 if best >= Isa::Avx2 {
                     // SAFETY: the CPU has the features of `Isa::Avx2`.
                     assert_eq!(unsafe { sobol_vertices_avx2(&input) }, portable);
+                    for lens in [false, true] {
+                        // SAFETY: as above.
+                        assert_eq!(unsafe { sobol_camera_avx2(&input, lens) }, camera[lens as usize]);
+                    }
                 }
                 if best == Isa::Avx512 {
                     // SAFETY: the CPU has the features of `Isa::Avx512`.
                     assert_eq!(unsafe { sobol_vertices_avx512(&input) }, portable);
+                    for lens in [false, true] {
+                        // SAFETY: as above.
+                        assert_eq!(unsafe { sobol_camera_avx512(&input, lens) }, camera[lens as usize]);
+                    }
                 }
             }
         }

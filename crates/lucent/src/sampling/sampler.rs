@@ -310,16 +310,34 @@ impl Sampler {
         VertexSamples { light, point, lobe, dir, rr }
     }
 
-    /// The Sobol sampler's state for the next [`Sampler::vertex`], which it
-    /// then skips: the premixed index, the pixel's hash and the vertex's
-    /// first dimension. For [`super::lanes`], which computes the values of
+    /// The Sobol sampler's state for its next `dimensions` dimensions,
+    /// which it then skips: the premixed index, the pixel's hash and the
+    /// first of them. For [`super::lanes`], which computes the values of
     /// many samplers at once, scramble seeds included ([`dimension_hash`]).
     #[inline(always)]
-    pub(super) fn sobol_vertex_state(&mut self) -> (u32, u64, u32) {
+    pub(super) fn sobol_state(&mut self, dimensions: u32) -> (u32, u64, u32) {
         debug_assert_eq!(self.kind, SamplerKind::Sobol);
         let d = self.dimension;
-        self.dimension = d.wrapping_add(5);
+        self.dimension = d.wrapping_add(dimensions);
         (self.index_premixed, self.pixel_hash, d)
+    }
+
+    /// The Sobol scramble seeds the pixel's table keeps (for tests).
+    #[cfg(test)]
+    pub(super) fn kept_seeds(&self) -> &[[u32; 3]] {
+        &self.seeds
+    }
+
+    /// Keep the Sobol scramble seeds of the pixel's first `dimensions`
+    /// dimensions in its table, where a draw one at a time would have put
+    /// them (for [`super::lanes`], whose kernels hash their own: later
+    /// draws one at a time keep theirs only after these).
+    #[inline]
+    pub(super) fn keep_seeds(&mut self, dimensions: u32) {
+        while self.seeds.len() < (dimensions as usize).min(MAX_KEPT_DIMENSIONS) {
+            let d = self.seeds.len() as u32;
+            self.seeds.push(dimension_hash(self.pixel_hash, d));
+        }
     }
 
     /// The sample's position within the pixel filter's support: the first
