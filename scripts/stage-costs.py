@@ -38,7 +38,7 @@ STAGES = [
     ("light sampling", r"AreaLight|Rectangle|SphericalRectangle|Emitter::|AliasTable|atan|LightSet|light_lanes::"),
     ("material and BSDF", r"Bxdf|Bsdf|BxDF|shading_frame|sincos|Material::|Texture::|concentric|cosine_hemisphere|scatter_lanes::"),
     ("film", r"SplatBand|Filter1d|floorf|Accumulator|film::"),
-    ("camera and the render loop", r"Camera::|Fn<A> for &F|render::"),
+    ("camera and the render loop", r"Camera::|camera::|camera_lanes|sobol_camera|Fn<A> for &F|render::"),
     ("path loop (li / li_lanes itself, copies)", r"PathIntegrator|memmove|memcpy|memset"),
 ]
 QUERY_STAGES = [name for name, _ in STAGES if name.startswith("ray queries")]
