@@ -3,15 +3,16 @@
 //! ([`Camera::generate_rays`]).
 //!
 //! A pinhole perspective camera, the common case, makes each ray with a
-//! few products and sums, two divisions and a square root: one at a time,
-//! through a call, that is mostly waiting on the divisions. Across lanes,
-//! laid out structure-of-arrays, each step is one vector instruction for
-//! sixteen rays. The steps are those of [`Camera::generate_ray`], in the
-//! same order, so the rays are the same bits where the scalar code's
-//! vector type rounds the same way (x86-64, whose `Vec3A::normalize`
-//! divides each component by the length, as the lanes do); elsewhere they
-//! agree within an ulp. Other cameras (thin lens, orthographic, spherical)
-//! make their rays one at a time.
+//! few products and sums, three divisions and a square root: one at a
+//! time, through a call, that is mostly waiting on the divisions. Across
+//! lanes, laid out structure-of-arrays, each step is one vector
+//! instruction for sixteen rays. The steps are those of
+//! [`Camera::generate_ray`], in the same order, and the length is applied
+//! as glam's `Vec3A::normalize` applies it on the target (a division of
+//! each component where its vector type is SSE2's or WebAssembly's
+//! `simd128`, a product with the reciprocal elsewhere): the rays are the
+//! same bits. Other cameras (thin lens, orthographic, spherical) make
+//! their rays one at a time.
 
 use super::{Camera, Model};
 #[cfg(target_arch = "x86_64")]
@@ -24,8 +25,13 @@ const KERNEL_LANES: usize = 16;
 impl Camera {
     /// [`Camera::generate_ray`] for every lane: `rays[i]` through film
     /// position `film[i]` with lens sample `lens[i]` (ignored by cameras
-    /// without a lens; `lens` may then be shorter). The same rays as one by
-    /// one (see the module's notes on rounding).
+    /// without a lens, for which `lens` may be shorter or empty). The same
+    /// rays, bit for bit, as one by one; a pinhole camera makes them
+    /// sixteen at a time in vector code.
+    ///
+    /// # Panics
+    /// If `rays` and `film` differ in length, or the camera has a lens and
+    /// `lens` is shorter than `film`.
     ///
     /// ```
     /// use lucent::camera::Camera;
@@ -39,9 +45,13 @@ impl Camera {
     /// ```
     pub fn generate_rays(&self, film: &[Vec2], lens: &[Vec2], rays: &mut [Ray]) {
         assert_eq!(film.len(), rays.len(), "one film position a ray");
+        if self.lens.is_some() {
+            assert!(lens.len() >= film.len(), "a camera with a lens needs a lens sample a ray");
+        }
         if !matches!((self.model, self.lens), (Model::Perspective, None)) {
             for (i, (ray, &film)) in rays.iter_mut().zip(film).enumerate() {
-                *ray = self.generate_ray(film, lens.get(i).copied().unwrap_or(Vec2::ZERO));
+                let lens = if self.lens.is_some() { lens[i] } else { Vec2::ZERO };
+                *ray = self.generate_ray(film, lens);
             }
             return;
         }
@@ -105,20 +115,18 @@ unsafe fn pinhole_directions_avx512(camera: &Camera, film: &FilmLanes) -> Direct
 }
 
 /// The pinhole's ray directions: the screen-window point
-/// ([`Camera::screen`]), its direction `w + s_x u + s_y v`
-/// ([`Camera::image_plane_direction`]), divided by its length; each step a
-/// loop over the lanes, with the scalar code's operations in its order
-/// (no fused multiply-adds: Rust does not contract `a * b + c`).
+/// ([`Camera::screen_xy`]), its direction `w + s_x u + s_y v`
+/// ([`Camera::image_plane_direction`]), scaled to unit length as
+/// `Vec3A::normalize` does; each step a loop over the lanes, with the
+/// scalar code's operations in its order (no fused multiply-adds: Rust
+/// does not contract `a * b + c`).
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // each lane index reads and writes five arrays in step
 fn pinhole_directions_portable(camera: &Camera, film: &FilmLanes) -> Directions {
-    let (width, height) = (camera.width as f32, camera.height as f32);
-    let (hw, hh, centre) = (camera.half_width, camera.half_height, camera.centre);
     let (u, v, w) = (camera.u, camera.v, camera.w);
     let mut d: Directions = [[0.0; KERNEL_LANES]; 3];
     for k in 0..KERNEL_LANES {
-        let sx = (2.0 * film.x[k] / width - 1.0) * hw + centre.x;
-        let sy = (1.0 - 2.0 * film.y[k] / height) * hh + centre.y;
+        let (sx, sy) = camera.screen_xy(film.x[k], film.y[k]);
         d[0][k] = w.x + sx * u.x + sy * v.x;
         d[1][k] = w.y + sx * u.y + sy * v.y;
         d[2][k] = w.z + sx * u.z + sy * v.z;
@@ -126,9 +134,18 @@ fn pinhole_directions_portable(camera: &Camera, film: &FilmLanes) -> Directions 
     for k in 0..KERNEL_LANES {
         // `Vec3A`'s dot product: (x² + y²) + z².
         let len = (d[0][k] * d[0][k] + d[1][k] * d[1][k] + d[2][k] * d[2][k]).sqrt();
-        d[0][k] /= len;
-        d[1][k] /= len;
-        d[2][k] /= len;
+        // glam's SSE2 and simd128 `normalize` divides by the length; its
+        // other backends (NEON, scalar) multiply by the reciprocal.
+        if cfg!(any(target_feature = "sse2", target_feature = "simd128")) {
+            d[0][k] /= len;
+            d[1][k] /= len;
+            d[2][k] /= len;
+        } else {
+            let r = 1.0 / len;
+            d[0][k] *= r;
+            d[1][k] *= r;
+            d[2][k] *= r;
+        }
     }
     d
 }
@@ -173,8 +190,8 @@ mod tests {
         vec![look, wide, window, lens, ortho]
     }
 
-    /// Every camera's rays equal `generate_ray`'s, lane by lane: bit for
-    /// bit on x86-64, within an ulp of each coordinate elsewhere.
+    /// Every camera's rays equal `generate_ray`'s, lane by lane, bit for
+    /// bit.
     #[test]
     fn rays_equal_one_by_one() {
         let mut rng = Pcg32::new(17, 3);
@@ -187,14 +204,18 @@ mod tests {
                 for i in 0..n {
                     let one = camera.generate_ray(film[i], lens[i]);
                     assert_eq!(rays[i].origin, one.origin, "lane {i} of {n}");
-                    if cfg!(target_arch = "x86_64") {
-                        assert_eq!(rays[i].dir, one.dir, "lane {i} of {n}, film {:?}", film[i]);
-                    } else {
-                        assert!((rays[i].dir - one.dir).abs().max_element() <= 2.0 * f32::EPSILON, "lane {i} of {n}");
-                    }
+                    assert_eq!(rays[i].dir, one.dir, "lane {i} of {n}, film {:?}", film[i]);
                 }
             }
         }
+    }
+
+    #[test]
+    #[should_panic(expected = "a lens sample a ray")]
+    fn a_lens_needs_its_samples() {
+        let camera = cameras().remove(3);
+        let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); 2];
+        camera.generate_rays(&[Vec2::ZERO, Vec2::ONE], &[Vec2::ZERO], &mut rays);
     }
 
     /// Every build the CPU runs gives the portable build's bits.

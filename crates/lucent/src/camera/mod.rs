@@ -220,9 +220,17 @@ impl Camera {
     /// window's `xmin`, the top edge its `ymax`.
     #[inline]
     fn screen(&self, film: Vec2) -> Vec2 {
-        let x = (2.0 * film.x / self.width as f32 - 1.0) * self.half_width + self.centre.x;
-        let y = (1.0 - 2.0 * film.y / self.height as f32) * self.half_height + self.centre.y;
+        let (x, y) = self.screen_xy(film.x, film.y);
         Vec2::new(x, y)
+    }
+
+    /// [`Camera::screen`] of the film position `(x, y)`, as two numbers
+    /// (also the lanes' definition, `lanes.rs`).
+    #[inline(always)]
+    fn screen_xy(&self, x: f32, y: f32) -> (f32, f32) {
+        let sx = (2.0 * x / self.width as f32 - 1.0) * self.half_width + self.centre.x;
+        let sy = (1.0 - 2.0 * y / self.height as f32) * self.half_height + self.centre.y;
+        (sx, sy)
     }
 
     /// The direction, relative to the eye, of the image-plane point at film

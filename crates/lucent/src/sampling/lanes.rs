@@ -1,15 +1,18 @@
 //! Sample values for many paths at once: the path integrator draws the five
 //! dimensions of a vertex ([`VertexSamples`]) for all the paths of a batch
-//! together ([`Sampler::vertex_lanes`]).
+//! together ([`Sampler::vertex_lanes`]), and the render loop the camera's
+//! two dimensions of a run of pixel samples ([`Sampler::camera_lanes`]).
 //!
 //! The Sobol sampler's values are pure integer arithmetic on (index, seed)
 //! pairs: the same multiplications, additions, XORs and bit reversals for
 //! every path. Sixteen paths' values are therefore computed as sixteen
-//! lanes of vector code ([`sobol_vertices`]), with the lanes laid out
+//! lanes of vector code ([`sobol_vertices`], [`sobol_camera`], each
+//! dimension by [`sobol_dimension`]), with the lanes laid out
 //! structure-of-arrays so that the compiler turns each step into one
 //! instruction over all lanes (`vpmulld`, `vpaddd`, `vpxor`). The values
-//! are those of [`Sampler::vertex`] bit for bit: the arithmetic is
-//! integer, and the same.
+//! are those of [`Sampler::vertex`] (and [`Sampler::pixel_2d`],
+//! [`Sampler::get_2d`]) bit for bit: the arithmetic is integer, and the
+//! same.
 //!
 //! The kernel also hashes each lane's scramble seeds from (pixel,
 //! dimension) itself, rather than reading them from the lane's sampler,
@@ -39,14 +42,26 @@ use glam::Vec2;
 /// Paths whose Sobol values one kernel call computes.
 const KERNEL_LANES: usize = 16;
 
-/// The inputs of [`sobol_vertices`], lane by lane: each path's premixed
-/// sample index, its pixel's hash and the vertex's first dimension
-/// ([`Sampler::sobol_state`]).
+/// The inputs of [`sobol_vertices`] and [`sobol_camera`], lane by lane:
+/// each path's premixed sample index, its pixel's hash and the first
+/// dimension to draw ([`Sampler::sobol_state`]).
 #[derive(Clone, Copy, Default)]
 struct SobolLanes {
     index_premixed: [u32; KERNEL_LANES],
     pixel_hash: [u64; KERNEL_LANES],
     dimension: [u32; KERNEL_LANES],
+}
+
+impl SobolLanes {
+    /// Lane `k`'s input: the state of `sampler`, which then skips its next
+    /// `dimensions` dimensions.
+    #[inline(always)]
+    fn set(&mut self, k: usize, sampler: &mut Sampler, dimensions: u32) {
+        let (index_premixed, pixel_hash, dimension) = sampler.sobol_state(dimensions);
+        self.index_premixed[k] = index_premixed;
+        self.pixel_hash[k] = pixel_hash;
+        self.dimension[k] = dimension;
+    }
 }
 
 /// The seven values of a vertex, lane by lane, in [`Sampler::vertex`]'s
@@ -69,10 +84,7 @@ impl Sampler {
             }
             let mut input = SobolLanes::default();
             for (k, &lane) in group.iter().enumerate().take(KERNEL_LANES) {
-                let (index_premixed, pixel_hash, dimension) = samplers[lane as usize].sobol_state(5);
-                input.index_premixed[k] = index_premixed;
-                input.pixel_hash[k] = pixel_hash;
-                input.dimension[k] = dimension;
+                input.set(k, &mut samplers[lane as usize], 5);
             }
             let values = sobol_vertices(&input);
             for (slot, &lane) in group.iter().enumerate() {
@@ -97,7 +109,14 @@ impl Sampler {
     /// dimension skipped ([`Sampler::skip_2d`]). The same values as drawn
     /// one by one; the Sobol sampler's are computed sixteen lanes at a
     /// time, as [`Sampler::vertex_lanes`] does.
+    ///
+    /// # Panics
+    /// If `samplers`, `film` and `lens` differ in length.
     pub fn camera_lanes(samplers: &mut [Sampler], has_lens: bool, film: &mut [Vec2], lens: &mut [Vec2]) {
+        assert!(
+            samplers.len() == film.len() && film.len() == lens.len(),
+            "a film position and a lens sample for each sampler"
+        );
         for ((samplers, film), lens) in
             samplers.chunks_mut(KERNEL_LANES).zip(film.chunks_mut(KERNEL_LANES)).zip(lens.chunks_mut(KERNEL_LANES))
         {
@@ -115,10 +134,8 @@ impl Sampler {
             }
             let mut input = SobolLanes::default();
             for (k, sampler) in samplers.iter_mut().enumerate() {
-                let (index_premixed, pixel_hash, dimension) = sampler.sobol_state(2);
-                input.index_premixed[k] = index_premixed;
-                input.pixel_hash[k] = pixel_hash;
-                input.dimension[k] = dimension;
+                input.set(k, sampler, 2);
+                debug_assert_eq!(input.dimension[k], 0, "the camera's dimensions come first");
                 sampler.keep_seeds(2);
             }
             let values = sobol_camera(&input, has_lens);
