@@ -99,9 +99,7 @@ impl Sampler {
             }
         }
     }
-}
 
-impl Sampler {
     /// The camera's dimensions of every sampler, each just started on its
     /// pixel sample ([`Sampler::start_pixel_sample`]): `film[i]` the
     /// position in the pixel ([`Sampler::pixel_2d`]), and `lens[i]` the
