@@ -28,6 +28,12 @@ lay code out differently and move figures by 1–2%.
         /tmp/lucent-before /tmp/lucent-after -- \\
         render scenes/cornell-box.toml --width 256 --height 256 --spp 32 --threads 1
 
+With `--functions N` it also prints, for each build, the median over the
+rounds of the whole process's samples and of the N functions with the
+most: noisier than the shares (the machine's speed moves them all), but
+it shows where the time moved, and a function the change should have
+made cheaper can be checked on its own.
+
 Needs `perf` (Debian `linux-perf`); not run by CI.
 """
 
@@ -43,20 +49,43 @@ from pathlib import Path
 import build_pair
 
 
-def group_share(binary: Path, args: list, group: re.Pattern, tmp: Path) -> float:
-    """Percent of one run's cpu-clock samples in the symbols matching `group`."""
+def group_share(binary: Path, args: list, group: re.Pattern, tmp: Path) -> tuple:
+    """Percent of one run's cpu-clock samples in the symbols matching
+    `group`, and the run's samples by symbol."""
     data, image = tmp / "perf.data", tmp / "image.exr"
     subprocess.run(["perf", "record", "-q", "-e", "cpu-clock", "-F", "2000", "-o", str(data),
                     str(binary), *args, "-o", str(image), "-q"],
                    check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     report = subprocess.run(["perf", "report", "-i", str(data), "--no-children", "--sort", "symbol",
-                             "--stdio"], check=True, capture_output=True, text=True).stdout
-    total = 0.0
+                             "--stdio", "-n", "--percent-limit", "0"],
+                            check=True, capture_output=True, text=True).stdout
+    total, samples = 0.0, {}
     for line in report.splitlines():
-        m = re.match(r"\s*([\d.]+)%\s+\[\.\]\s+(.*)", line)
-        if m and group.search(m.group(2)):
+        m = re.match(r"\s*([\d.]+)%\s+(\d+)\s+\[.\]\s+(.*)", line)
+        if not m:
+            continue
+        # (The name ends where perf's padding before its next columns starts.)
+        symbol = re.split(r"\s{2,}", m.group(3).strip())[0]
+        samples[symbol] = samples.get(symbol, 0) + int(m.group(2))
+        if group.search(symbol):
             total += float(m.group(1))
-    return total
+    return total, samples
+
+
+def print_functions(base: list, build: list, count: int) -> None:
+    """The medians over the rounds of each build's samples, whole process
+    and by function (the `count` functions with the most): a cross-check
+    of the shares where a function's own samples move."""
+    def median(runs, symbol):
+        return statistics.median(run.get(symbol, 0) for run in runs)
+
+    totals = [statistics.median(sum(run.values()) for run in runs) for runs in (base, build)]
+    print(f"samples, medians: whole process {totals[0]:.0f} -> {totals[1]:.0f} ({totals[1] / totals[0]:.3f})")
+    symbols = set().union(*base, *build)
+    top = sorted(symbols, key=lambda s: -(median(base, s) + median(build, s)))[:count]
+    for symbol in top:
+        a, b = median(base, symbol), median(build, symbol)
+        print(f"  {a:8.0f} {b:8.0f} {b - a:+7.0f}  {symbol[:100]}")
 
 
 def main() -> None:
@@ -64,6 +93,9 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=8, help="runs of each build, alternating (default 8)")
     parser.add_argument("--group", required=True,
                         help="regular expression of the symbols the change leaves alone")
+    parser.add_argument("--functions", type=int, default=0, metavar="N",
+                        help="also print the medians of each build's samples, whole process and of the N "
+                             "functions with the most (a cross-check: noisy, but it shows where time moved)")
     build_pair.add_arguments(parser)
     a = parser.parse_args()
     args = build_pair.lucent_args(parser, a)
@@ -71,13 +103,16 @@ def main() -> None:
         sys.exit("error: `perf` is not installed (Debian: apt-get install linux-perf)")
     group = re.compile(a.group)
     base, build = [], []
+    samples = {id(base): [], id(build): []}
     with tempfile.TemporaryDirectory() as tmp:
         for r in range(a.rounds):
             order = [(a.baseline, base), (a.build, build)]
             if r % 2 == 1:
                 order.reverse()
             for binary, shares in order:
-                shares.append(group_share(binary, args, group, Path(tmp)))
+                share, by_symbol = group_share(binary, args, group, Path(tmp))
+                shares.append(share)
+                samples[id(shares)].append(by_symbol)
             print(f"round {r + 1}: baseline {base[-1]:.2f}%, build {build[-1]:.2f}%", flush=True)
     if min(base + build) <= 0.0:
         sys.exit("error: the group matched no samples in some run; check --group against `perf report`")
@@ -87,6 +122,8 @@ def main() -> None:
           f"build {mn:.2f}% (from {min(build):.2f})")
     print(f"time(build) / time(baseline) = {mb:.2f} / {mn:.2f} = {mb / mn:.3f}; "
           f"the build's share was larger in {larger} of {a.rounds} rounds")
+    if a.functions > 0:
+        print_functions(samples[id(base)], samples[id(build)], a.functions)
 
 
 if __name__ == "__main__":
