@@ -102,17 +102,18 @@ def main() -> None:
     if shutil.which("perf") is None:
         sys.exit("error: `perf` is not installed (Debian: apt-get install linux-perf)")
     group = re.compile(a.group)
+    # Each build's group shares and samples by symbol, a pair per round.
     base, build = [], []
-    samples = {id(base): [], id(build): []}
+    base_runs, build_runs = [], []
     with tempfile.TemporaryDirectory() as tmp:
         for r in range(a.rounds):
-            order = [(a.baseline, base), (a.build, build)]
+            order = [(a.baseline, base, base_runs), (a.build, build, build_runs)]
             if r % 2 == 1:
                 order.reverse()
-            for binary, shares in order:
+            for binary, shares, runs in order:
                 share, by_symbol = group_share(binary, args, group, Path(tmp))
                 shares.append(share)
-                samples[id(shares)].append(by_symbol)
+                runs.append(by_symbol)
             print(f"round {r + 1}: baseline {base[-1]:.2f}%, build {build[-1]:.2f}%", flush=True)
     if min(base + build) <= 0.0:
         sys.exit("error: the group matched no samples in some run; check --group against `perf report`")
@@ -123,7 +124,7 @@ def main() -> None:
     print(f"time(build) / time(baseline) = {mb:.2f} / {mn:.2f} = {mb / mn:.3f}; "
           f"the build's share was larger in {larger} of {a.rounds} rounds")
     if a.functions > 0:
-        print_functions(samples[id(base)], samples[id(build)], a.functions)
+        print_functions(base_runs, build_runs, a.functions)
 
 
 if __name__ == "__main__":
