@@ -25,7 +25,6 @@
 
 use super::{MeshError, TriangleMesh};
 use crate::geometry::Vec3;
-use std::collections::HashMap;
 use std::f32::consts::PI;
 
 /// The largest number of levels accepted (each multiplies the triangles by 4).
@@ -64,15 +63,15 @@ pub fn loop_subdivide(positions: &[Vec3], indices: &[[u32; 3]], levels: u32) -> 
     for _ in 0..levels {
         (p, tris) = subdivide_once(&p, &tris).map_err(err)?;
     }
-    let rings = one_rings(p.len(), &tris).map_err(err)?;
+    let rings = Rings::of(p.len(), &tris).map_err(err)?;
     let mut limit = Vec::with_capacity(p.len());
     let mut normals = Vec::with_capacity(p.len());
     let face_normals = vertex_face_normals(&p, &tris);
-    for (v, ring) in rings.iter().enumerate() {
-        let pv = p[v];
-        let (lp, ln) = match ring {
-            Ring::Isolated => (pv, Vec3::ZERO),
-            Ring::Interior(r) => {
+    for (v, &pv) in p.iter().enumerate() {
+        let (kind, r) = rings.get(v);
+        let (lp, ln) = match kind {
+            RingKind::Isolated => (pv, Vec3::ZERO),
+            RingKind::Interior => {
                 let k = r.len();
                 let beta = beta(k);
                 let gamma = 1.0 / (k as f32 + 3.0 / (8.0 * beta));
@@ -85,7 +84,7 @@ pub fn loop_subdivide(positions: &[Vec3], indices: &[[u32; 3]], levels: u32) -> 
                 }
                 ((1.0 - k as f32 * gamma) * pv + gamma * sum, s.cross(t))
             }
-            Ring::Boundary(r) => {
+            RingKind::Boundary => {
                 let (a, b) = (p[r[0] as usize], p[r[r.len() - 1] as usize]);
                 let along = b - a;
                 let q = |i: usize| p[r[i] as usize];
@@ -125,75 +124,124 @@ fn beta(n: usize) -> f32 {
     }
 }
 
-/// The neighbours of a vertex in the order its faces wind around it.
-enum Ring {
+/// How a vertex's faces lie around it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum RingKind {
     /// No face uses the vertex.
     Isolated,
     /// A closed fan: the neighbours in a cycle.
-    Interior(Vec<u32>),
+    Interior,
     /// An open fan: the neighbours from one boundary neighbour to the other.
-    Boundary(Vec<u32>),
+    Boundary,
 }
 
-/// The ordered one-ring of every vertex, or why the mesh is not a
-/// consistently wound manifold.
-fn one_rings(nv: usize, tris: &[[u32; 3]]) -> Result<Vec<Ring>, String> {
-    // For each vertex, the (next, after) pairs of its faces: face (v, a, b)
-    // wound counter-clockwise passes from a to b around v.
-    let mut pairs: Vec<Vec<(u32, u32)>> = vec![Vec::new(); nv];
-    for &[a, b, c] in tris {
-        pairs[a as usize].push((b, c));
-        pairs[b as usize].push((c, a));
-        pairs[c as usize].push((a, b));
+/// The ordered one-ring of every vertex (its neighbours in the order its
+/// faces wind around it), all rings in one array: a level of the killeroo
+/// has hundreds of thousands of vertices, and a list (and a hash map) per
+/// vertex made subdividing it take longer than rendering it.
+struct Rings {
+    kinds: Vec<RingKind>,
+    /// Vertex `v`'s ring is `verts[start[v]..start[v + 1]]`.
+    start: Vec<usize>,
+    verts: Vec<u32>,
+}
+
+impl Rings {
+    /// Vertex `v`'s kind of fan and its ring.
+    fn get(&self, v: usize) -> (RingKind, &[u32]) {
+        (self.kinds[v], &self.verts[self.start[v]..self.start[v + 1]])
     }
-    let mut rings = Vec::with_capacity(nv);
-    for (v, fan) in pairs.iter().enumerate() {
-        if fan.is_empty() {
-            rings.push(Ring::Isolated);
-            continue;
+
+    /// The rings of the `nv` vertices of `tris`, or why the mesh is not a
+    /// consistently wound manifold.
+    fn of(nv: usize, tris: &[[u32; 3]]) -> Result<Self, String> {
+        // For each vertex, the (next, after) pairs of its faces in face
+        // order: face (v, a, b) wound counter-clockwise passes from a to b
+        // around v. Counted first, so that they fill one array.
+        let mut fan_start = vec![0usize; nv + 1];
+        for &[a, b, c] in tris {
+            for v in [a, b, c] {
+                fan_start[v as usize + 1] += 1;
+            }
         }
-        let bad = || {
-            format!(
-                "the mesh is not a consistently wound manifold at vertex {v}: its faces do not form one fan \
-                 (an edge shared by more than two faces, faces wound in opposite directions, or fans touching at a \
-                 vertex)"
-            )
+        for v in 0..nv {
+            fan_start[v + 1] += fan_start[v];
+        }
+        let mut fill = fan_start.clone();
+        let mut pairs = vec![(0u32, 0u32); 3 * tris.len()];
+        for &[a, b, c] in tris {
+            for (v, pair) in [(a, (b, c)), (b, (c, a)), (c, (a, b))] {
+                pairs[fill[v as usize]] = pair;
+                fill[v as usize] += 1;
+            }
+        }
+        let mut rings = Rings {
+            kinds: Vec::with_capacity(nv),
+            start: Vec::with_capacity(nv + 1),
+            verts: Vec::with_capacity(3 * tris.len() + nv),
         };
-        let mut next: HashMap<u32, u32> = HashMap::with_capacity(fan.len());
-        for &(a, b) in fan {
-            if next.insert(a, b).is_some() {
+        rings.start.push(0);
+        // The fan's pairs sorted by where they start, and the sorted ends:
+        // the pair that leaves a neighbour, and whether one arrives there,
+        // by binary search (a fan has a handful of pairs, but a bad mesh
+        // may give one vertex thousands).
+        let (mut by_start, mut ends) = (Vec::new(), Vec::new());
+        for v in 0..nv {
+            let fan = &pairs[fan_start[v]..fan_start[v + 1]];
+            let bad = || {
+                format!(
+                    "the mesh is not a consistently wound manifold at vertex {v}: its faces do not form one fan \
+                     (an edge shared by more than two faces, faces wound in opposite directions, or fans touching \
+                     at a vertex)"
+                )
+            };
+            if fan.is_empty() {
+                rings.kinds.push(RingKind::Isolated);
+                rings.start.push(rings.verts.len());
+                continue;
+            }
+            // No neighbour may start, or end, two of the fan's pairs.
+            by_start.clear();
+            by_start.extend_from_slice(fan);
+            by_start.sort_unstable();
+            ends.clear();
+            ends.extend(fan.iter().map(|&(_, b)| b));
+            ends.sort_unstable();
+            if by_start.windows(2).any(|w| w[0].0 == w[1].0) || ends.windows(2).any(|w| w[0] == w[1]) {
                 return Err(bad());
             }
-        }
-        let targets: std::collections::HashSet<u32> = fan.iter().map(|&(_, b)| b).collect();
-        if targets.len() != fan.len() {
-            return Err(bad());
-        }
-        let starts: Vec<u32> = fan.iter().map(|&(a, _)| a).filter(|a| !targets.contains(a)).collect();
-        let (start, boundary) = match starts[..] {
-            [] => (fan[0].0, false),
-            [s] => (s, true),
-            _ => return Err(bad()),
-        };
-        let mut ring = vec![start];
-        let mut cur = start;
-        while let Some(&b) = next.get(&cur) {
-            if b == start {
-                break;
+            // A closed fan starts anywhere (at its first face's, as the
+            // rings always have); an open one at the one neighbour that no
+            // pair ends at.
+            let mut starts = fan.iter().map(|&(a, _)| a).filter(|a| ends.binary_search(a).is_err());
+            let (first, kind) = match (starts.next(), starts.next()) {
+                (None, _) => (fan[0].0, RingKind::Interior),
+                (Some(s), None) => (s, RingKind::Boundary),
+                _ => return Err(bad()),
+            };
+            let ring = rings.verts.len();
+            rings.verts.push(first);
+            let mut cur = first;
+            while let Ok(i) = by_start.binary_search_by_key(&cur, |&(a, _)| a) {
+                let b = by_start[i].1;
+                if b == first {
+                    break;
+                }
+                rings.verts.push(b);
+                cur = b;
+                if rings.verts.len() - ring > fan.len() + 1 {
+                    return Err(bad());
+                }
             }
-            ring.push(b);
-            cur = b;
-            if ring.len() > fan.len() + 1 {
+            let expected = if kind == RingKind::Boundary { fan.len() + 1 } else { fan.len() };
+            if rings.verts.len() - ring != expected {
                 return Err(bad());
             }
+            rings.kinds.push(kind);
+            rings.start.push(rings.verts.len());
         }
-        let expected = if boundary { fan.len() + 1 } else { fan.len() };
-        if ring.len() != expected {
-            return Err(bad());
-        }
-        rings.push(if boundary { Ring::Boundary(ring) } else { Ring::Interior(ring) });
+        Ok(rings)
     }
-    Ok(rings)
 }
 
 /// The sum of the (area-weighted) normals of each vertex's faces.
@@ -214,46 +262,60 @@ type Level = (Vec<Vec3>, Vec<[u32; 3]>);
 /// positions) followed by one odd vertex per edge; four triangles per
 /// triangle, wound as their parent.
 fn subdivide_once(p: &[Vec3], tris: &[[u32; 3]]) -> Result<Level, String> {
-    let rings = one_rings(p.len(), tris)?;
+    let rings = Rings::of(p.len(), tris)?;
     let mut out: Vec<Vec3> = Vec::with_capacity(p.len() + tris.len() * 3 / 2 + 3);
-    for (v, ring) in rings.iter().enumerate() {
-        out.push(match ring {
-            Ring::Isolated => p[v],
-            Ring::Interior(r) => {
+    for (v, &pv) in p.iter().enumerate() {
+        let (kind, r) = rings.get(v);
+        out.push(match kind {
+            RingKind::Isolated => pv,
+            RingKind::Interior => {
                 let b = beta(r.len());
                 let sum: Vec3 = r.iter().map(|&i| p[i as usize]).sum();
-                (1.0 - r.len() as f32 * b) * p[v] + b * sum
+                (1.0 - r.len() as f32 * b) * pv + b * sum
             }
-            Ring::Boundary(r) => 0.75 * p[v] + 0.125 * (p[r[0] as usize] + p[r[r.len() - 1] as usize]),
+            RingKind::Boundary => 0.75 * pv + 0.125 * (p[r[0] as usize] + p[r[r.len() - 1] as usize]),
         });
     }
-    // Odd vertices: one per undirected edge, with the opposite vertices.
-    let mut edges: HashMap<(u32, u32), (u32, [u32; 2], usize)> = HashMap::with_capacity(tris.len() * 3 / 2 + 3);
-    for &[a, b, c] in tris {
-        for (x, y, opp) in [(a, b, c), (b, c, a), (c, a, b)] {
-            let key = (x.min(y), x.max(y));
-            let entry = edges.entry(key).or_insert((u32::MAX, [0, 0], 0));
-            if entry.2 == 2 {
-                return Err(format!(
-                    "edge ({}, {}) is shared by more than two faces: the mesh is not a manifold",
-                    x, y
-                ));
-            }
-            entry.1[entry.2] = opp;
-            entry.2 += 1;
+    // Odd vertices: one per undirected edge (v, w), numbered in the order
+    // of (min, max): each vertex v in turn, its neighbours w > v ascending.
+    // The faces on the edge are (v, r[i − 1], r[i]) and (v, r[i], r[i + 1])
+    // for w = r[i] in v's ring (cyclic in a closed fan; an open fan's ends
+    // have one face), so the vertices opposite it are w's ring neighbours.
+    // `edges[edge_start[v]..edge_start[v + 1]]` holds each such (w, odd
+    // vertex), sorted by w.
+    let mut edge_start = Vec::with_capacity(p.len() + 1);
+    let mut edges: Vec<(u32, u32)> = Vec::with_capacity(tris.len() * 3 / 2 + 3);
+    edge_start.push(0);
+    for (v, &pv) in p.iter().enumerate() {
+        let (kind, r) = rings.get(v);
+        let first = edges.len();
+        // (w, its place in the ring) for now; the odd vertex below.
+        edges.extend(r.iter().enumerate().filter(|&(_, &w)| w as usize > v).map(|(i, &w)| (w, i as u32)));
+        edges[first..].sort_unstable();
+        let k = r.len();
+        for e in &mut edges[first..] {
+            let (w, i) = (e.0, e.1 as usize);
+            let opposite = match kind {
+                RingKind::Interior => Some((r[(i + k - 1) % k], r[(i + 1) % k])),
+                _ if i > 0 && i + 1 < k => Some((r[i - 1], r[i + 1])),
+                _ => None,
+            };
+            let (a, b) = (pv, p[w as usize]);
+            let q = match opposite {
+                Some((c, d)) => 0.375 * (a + b) + 0.125 * (p[c as usize] + p[d as usize]),
+                None => 0.5 * (a + b),
+            };
+            e.1 = out.len() as u32;
+            out.push(q);
         }
+        edge_start.push(edges.len());
     }
-    let mut keys: Vec<(u32, u32)> = edges.keys().copied().collect();
-    keys.sort_unstable(); // deterministic vertex numbering
-    for key in keys {
-        let e = edges.get_mut(&key).expect("present");
-        let (a, b) = (p[key.0 as usize], p[key.1 as usize]);
-        let q =
-            if e.2 == 2 { 0.375 * (a + b) + 0.125 * (p[e.1[0] as usize] + p[e.1[1] as usize]) } else { 0.5 * (a + b) };
-        e.0 = out.len() as u32;
-        out.push(q);
-    }
-    let mid = |x: u32, y: u32| edges[&(x.min(y), x.max(y))].0;
+    // Every edge of a face is in the ring of its lower vertex.
+    let mid = |x: u32, y: u32| {
+        let (v, w) = (x.min(y) as usize, x.max(y));
+        let own = &edges[edge_start[v]..edge_start[v + 1]];
+        own[own.partition_point(|&(u, _)| u < w)].1
+    };
     let mut new_tris = Vec::with_capacity(tris.len() * 4);
     for &[a, b, c] in tris {
         let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
@@ -343,10 +405,11 @@ mod tests {
         lifted[2 * 5 + 2].z = 1.0; // the centre vertex (2, 2)
         let flat = loop_subdivide(&p, &t, 2).unwrap();
         let bent = loop_subdivide(&lifted, &t, 2).unwrap();
-        let rings = one_rings(bent.positions.len(), &bent.indices).unwrap();
+        let rings = Rings::of(bent.positions.len(), &bent.indices).unwrap();
+        let boundary: Vec<bool> = (0..bent.positions.len()).map(|v| rings.get(v).0 == RingKind::Boundary).collect();
         let mut count = 0;
-        for (i, r) in rings.iter().enumerate() {
-            if let Ring::Boundary(_) = r {
+        for (i, &on_boundary) in boundary.iter().enumerate() {
+            if on_boundary {
                 count += 1;
                 assert_eq!(bent.positions[i], flat.positions[i]);
                 assert_eq!(bent.positions[i].z, 0.0);
@@ -361,8 +424,8 @@ mod tests {
         let mid = flat
             .positions
             .iter()
-            .zip(&rings)
-            .filter(|(x, r)| matches!(r, Ring::Boundary(_)) && (x.x - 2.0).abs() < 0.6 && x.y < 0.5);
+            .zip(&boundary)
+            .filter(|&(x, &on_boundary)| on_boundary && (x.x - 2.0).abs() < 0.6 && x.y < 0.5);
         let mid: Vec<_> = mid.collect();
         assert!(!mid.is_empty());
         for (x, _) in mid {
