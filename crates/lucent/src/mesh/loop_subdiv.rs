@@ -433,6 +433,43 @@ mod tests {
         }
     }
 
+    /// `subdivide_once` against a brute-force reading of its rules: the
+    /// odd vertices numbered by sorted edge, each from the faces found by
+    /// scanning every triangle; bit for bit.
+    #[test]
+    fn odd_vertices_match_a_brute_force_reference() {
+        let (p, t) = grid(3);
+        // Bend the grid, so that no two vertices' sums coincide by symmetry.
+        let p: Vec<Vec3> = p.iter().map(|v| *v + Vec3::new(0.0, 0.0, (v.x * 1.3 + v.y * 0.7).sin())).collect();
+        for (p, t) in [(p, t), tetrahedron()] {
+            let (out, new_tris) = subdivide_once(&p, &t).unwrap();
+            let mut keys: Vec<(u32, u32)> =
+                t.iter().flat_map(|&[a, b, c]| [(a, b), (b, c), (c, a)]).map(|(x, y)| (x.min(y), x.max(y))).collect();
+            keys.sort_unstable();
+            keys.dedup();
+            assert_eq!(out.len(), p.len() + keys.len());
+            for (k, &(x, y)) in keys.iter().enumerate() {
+                let opposite: Vec<u32> = t
+                    .iter()
+                    .filter(|f| f.contains(&x) && f.contains(&y))
+                    .map(|f| f.iter().copied().find(|&v| v != x && v != y).unwrap())
+                    .collect();
+                let (a, b) = (p[x as usize], p[y as usize]);
+                let expected = match opposite[..] {
+                    [c, d] => 0.375 * (a + b) + 0.125 * (p[c as usize] + p[d as usize]),
+                    _ => 0.5 * (a + b),
+                };
+                assert_eq!(out[p.len() + k], expected, "edge ({x}, {y})");
+            }
+            // Each parent's corner triangle uses the odd vertices of its edges.
+            let odd = |x: u32, y: u32| (p.len() + keys.binary_search(&(x.min(y), x.max(y))).unwrap()) as u32;
+            for (i, &[a, b, c]) in t.iter().enumerate() {
+                assert_eq!(new_tris[4 * i], [a, odd(a, b), odd(c, a)]);
+                assert_eq!(new_tris[4 * i + 3], [odd(a, b), odd(b, c), odd(c, a)]);
+            }
+        }
+    }
+
     #[test]
     fn non_manifold_input_is_an_error() {
         // Three triangles sharing edge (0, 1).
