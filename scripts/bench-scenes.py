@@ -31,10 +31,14 @@ SHARED = ROOT.parent / "shared"
 SCENES = [
     ("Cornell box", ROOT / "scenes/cornell-box.toml", 512, 512, 16, []),
     ("glass-and-metal", ROOT / "scenes/glass-and-metal.toml", 400, 225, 16, []),
+    ("media", ROOT / "scenes/media.toml", 400, 250, 16, []),
     ("bunnies (path)", ROOT / "scenes/bunnies.toml", 480, 270, 8, ["--integrator", "path"]),
     ("Veach MIS", SHARED / "references/veach-mis/scene-v4.pbrt", 640, 360, 16, []),
     ("killeroo-simple", SHARED / "data/pbrt-v4/killeroos/killeroo-simple.pbrt", 400, 400, 16, []),
     ("killeroo-coated-gold", SHARED / "data/pbrt-v4/killeroos/killeroo-coated-gold.pbrt", 400, 400, 16, []),
+    ("killeroo-gold", SHARED / "data/pbrt-v4/killeroos/killeroo-gold.pbrt", 400, 400, 16, []),
+    # Rendered at its start time: lucent has no motion blur (a warning says so).
+    ("killeroo-moving", SHARED / "data/pbrt-v4/killeroos/killeroo-moving.pbrt", 400, 400, 16, []),
     # The BMW's own environment map is not shipped: light it with the sky.
     ("BMW M6", SHARED / "data/pbrt-v4/bmw-m6/bmw-m6.pbrt", 480, 270, 8, ["--env", str(ROOT / "scenes/sky.hdr")]),
 ]
