@@ -54,7 +54,7 @@ def main() -> None:
     base, build, ratios = [], [], []
     idle = {"baseline": [], "build": []}
 
-    def measure(which: str, binary: Path) -> float:
+    def measure(which: str, binary: Path, out: Path) -> float:
         wall, user, cpu = run_seconds(binary, args, out)
         if a.wall:
             idle[which].append(wall - cpu / a.wall)
@@ -65,11 +65,11 @@ def main() -> None:
         out = Path(tmp) / "image.exr"
         for r in range(a.rounds):
             if r % 2 == 0:
-                x = measure("baseline", a.baseline)
-                y = measure("build", a.build)
+                x = measure("baseline", a.baseline, out)
+                y = measure("build", a.build, out)
             else:
-                y = measure("build", a.build)
-                x = measure("baseline", a.baseline)
+                y = measure("build", a.build, out)
+                x = measure("baseline", a.baseline, out)
             base.append(x)
             build.append(y)
             ratios.append(y / x)
