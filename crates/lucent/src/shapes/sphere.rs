@@ -1,8 +1,8 @@
 use super::placement::Placement;
 use super::{area_to_solid_angle, check_finite, ShapeError, ShapeHit, ShapeSample};
 use crate::geometry::{
-    coordinate_system, coordinate_system_lane, gamma, group, sin_cos, sin_cos_lane, Bounds3, Ray, Transform, Vec2,
-    Vec3, Vec3Lanes, GROUP, LANES,
+    atan2, coordinate_system, coordinate_system_lane, gamma, group, sin_cos, sin_cos_lane, Bounds3, Ray, Transform,
+    Vec2, Vec3, Vec3Lanes, GROUP, LANES,
 };
 use crate::mesh::VertexAttributes;
 use crate::sampling::uniform_sphere;
@@ -344,7 +344,12 @@ impl Sphere {
 
     /// The nearest intersection with `0 < t < t_max`.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
-        self.intersect_filtered(ray, t_max, &mut |_| true)
+        match self.partial {
+            // A whole sphere has a surface at every root: the nearer root in
+            // range is the hit, without `intersect_filtered`'s loop.
+            None => self.hit_at(ray, self.nearest_t(ray, t_max)?),
+            Some(_) => self.intersect_filtered(ray, t_max, &mut |_| true),
+        }
     }
 
     /// The nearest intersection with `0 < t < t_max` that `accept` lets
@@ -390,13 +395,17 @@ impl Sphere {
                 let p = local + self.center;
                 let p_error = gamma(5) * local.abs() + gamma(1) * p.abs();
                 let n = local / r;
-                let phi = (-local.z).atan2(local.x);
-                let u = if phi < 0.0 { phi + 2.0 * PI } else { phi } / (2.0 * PI);
-                let cos_theta = (local.y / r).clamp(-1.0, 1.0);
-                let v = cos_theta.acos() / PI;
                 // u = φ/2π, v = θ/π of p = r (sin θ cos φ, cos θ, −sin θ sin φ).
-                let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
-                let (sin_phi, cos_phi) = sin_cos(phi);
+                // Both angles by lucent's straight-line `atan2`, θ from the
+                // distance ρ to the axis rather than acos(y/r) (well
+                // conditioned at the poles); the sine and cosine of φ are
+                // x/ρ and −z/ρ (as pbrt-v4's `Sphere`), φ = 0 on the axis.
+                let rho = (local.x * local.x + local.z * local.z).sqrt();
+                let phi = atan2(-local.z, local.x);
+                let u = if phi < 0.0 { phi + 2.0 * PI } else { phi } / (2.0 * PI);
+                let v = atan2(rho, local.y) / PI;
+                let sin_theta = rho / r;
+                let (sin_phi, cos_phi) = if rho > 0.0 { (-local.z / rho, local.x / rho) } else { (0.0, 1.0) };
                 let dpdu = 2.0 * PI * Vec3::new(local.z, 0.0, -local.x);
                 let dpdv = PI * Vec3::new(local.y * cos_phi, -r * sin_theta, -local.y * sin_phi);
                 let (dpdu, dpdv) = tangents_or_frame(dpdu, dpdv, n);
@@ -681,6 +690,55 @@ mod tests {
         let dv = (at(u, v + e) - at(u, v - e)) / (2.0 * e);
         assert!((h.dpdu - du).length() < 1e-3 * du.length(), "{} vs {du}", h.dpdu);
         assert!((h.dpdv - dv).length() < 1e-3 * dv.length(), "{} vs {dv}", h.dpdv);
+    }
+
+    /// A whole sphere's uv and tangents at random hits against the
+    /// parameterisation evaluated in f64 from the reported point: u = φ/2π,
+    /// v = θ/π with φ = atan2(−z, x) in [0, 2π) and θ = acos(y/r), and
+    /// ∂p/∂v = π (y cos φ, −r sin θ, −y sin φ). Then the poles, where φ is
+    /// undefined: v is exactly 0 or 1 and the frame is still orthogonal.
+    #[test]
+    fn whole_sphere_uv_and_tangents_match_the_parameterisation() {
+        let c = Vec3::new(0.5, -1.0, 2.0);
+        let r = 1.5f32;
+        let s = Sphere::new(c, r).unwrap();
+        let mut rng = Pcg32::new(3, 5);
+        let (mut worst_uv, mut worst_dpdv) = (0.0f64, 0.0f64);
+        for _ in 0..100_000 {
+            let o = c + 4.0 * uniform_sphere(Vec2::new(rng.uniform(), rng.uniform()));
+            let target = c + 0.99 * r * uniform_sphere(Vec2::new(rng.uniform(), rng.uniform()));
+            let Some(h) = s.intersect(&Ray::new(o, target - o), f32::INFINITY) else { continue };
+            let q = h.p - c;
+            let (x, y, z) = (q.x as f64, q.y as f64, q.z as f64);
+            let rr = (x * x + y * y + z * z).sqrt();
+            let mut phi = (-z).atan2(x);
+            if phi < 0.0 {
+                phi += 2.0 * std::f64::consts::PI;
+            }
+            let theta = (y / rr).clamp(-1.0, 1.0).acos();
+            let (u, v) = (phi / (2.0 * std::f64::consts::PI), theta / std::f64::consts::PI);
+            // u wraps at the seam φ = 0; its error is weighed by the
+            // distance to the axis (an arc length over 2π r), since near a
+            // pole φ of the rounded point is itself ill-conditioned.
+            let du = (h.uv.x as f64 - u).abs().min(1.0 - (h.uv.x as f64 - u).abs());
+            let rho = (x * x + z * z).sqrt() / rr;
+            worst_uv = worst_uv.max(du * rho).max((h.uv.y as f64 - v).abs());
+            let pi = std::f64::consts::PI;
+            let want = [pi * y * phi.cos(), -pi * rr * theta.sin(), -pi * y * phi.sin()];
+            let got = [h.dpdv.x as f64, h.dpdv.y as f64, h.dpdv.z as f64];
+            let err = (0..3).map(|i| (got[i] - want[i]).powi(2)).sum::<f64>().sqrt();
+            worst_dpdv = worst_dpdv.max(err / (pi * rr));
+        }
+        // (acos(y/r), as before, was off by 3.3e-6 here near the poles.)
+        assert!(worst_uv < 5e-7, "uv off by {worst_uv}");
+        assert!(worst_dpdv < 5e-5, "dpdv off by {worst_dpdv} of its length");
+        for (dir, v) in [(-Vec3::Y, 0.0), (Vec3::Y, 1.0)] {
+            let h = s.intersect(&Ray::new(c - 5.0 * dir, dir), f32::INFINITY).unwrap();
+            assert_eq!(h.uv.y, v, "pole hit at {}", h.p);
+            assert!(h.dpdu.is_finite() && h.dpdv.is_finite());
+            assert!(h.dpdu.dot(h.n).abs() < 1e-5 && h.dpdv.dot(h.n).abs() < 1e-5);
+            assert!(h.dpdu.cross(h.dpdv).length() > 0.0);
+        }
     }
 
     #[test]
