@@ -692,6 +692,35 @@ mod tests {
         assert!((h.dpdv - dv).length() < 1e-3 * dv.length(), "{} vs {dv}", h.dpdv);
     }
 
+    /// A whole sphere's `intersect` (the nearer root in range, straight to
+    /// its record) answers as `intersect_filtered` with a filter that takes
+    /// every hit, bit for bit: from outside, inside, on the surface and
+    /// tangent, with and without a `t_max` that cuts the sphere.
+    #[test]
+    fn whole_sphere_intersect_is_the_unfiltered_query() {
+        let s = Sphere::new(Vec3::new(0.3, -0.2, 1.0), 0.8).unwrap();
+        let mut rng = Pcg32::new(21, 2);
+        let mut hits = 0;
+        for i in 0..50_000 {
+            let o = match i % 4 {
+                0 => s.center() + 0.5 * uniform_sphere(Vec2::new(rng.uniform(), rng.uniform())),
+                1 => s.center() + 0.8 * uniform_sphere(Vec2::new(rng.uniform(), rng.uniform())),
+                _ => s.center() + 3.0 * uniform_sphere(Vec2::new(rng.uniform(), rng.uniform())),
+            };
+            let target = s.center() + 0.9 * uniform_sphere(Vec2::new(rng.uniform(), rng.uniform()));
+            let ray = Ray::new(o, target - o);
+            let t_max = if i % 3 == 0 { 2.0 * rng.uniform() } else { f32::INFINITY };
+            let a = s.intersect(&ray, t_max);
+            let b = s.intersect_filtered(&ray, t_max, &mut |_| true);
+            assert_eq!(a, b, "ray {ray:?}, t_max {t_max}");
+            hits += a.is_some() as usize;
+        }
+        // Tangent: the ray along x at height r.
+        let ray = Ray::new(s.center() + Vec3::new(-5.0, 0.8, 0.0), Vec3::X);
+        assert_eq!(s.intersect(&ray, f32::INFINITY), s.intersect_filtered(&ray, f32::INFINITY, &mut |_| true));
+        assert!(hits > 30_000, "only {hits} hits");
+    }
+
     /// A whole sphere's uv and tangents at random hits against the
     /// parameterisation evaluated in f64 from the reported point: u = φ/2π,
     /// v = θ/π with φ = atan2(−z, x) in [0, 2π) and θ = acos(y/r), and
