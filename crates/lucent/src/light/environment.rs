@@ -60,13 +60,12 @@
 use super::emitter::{LiSample, LightSampleContext};
 use super::equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere, wrap_octahedral_pixel};
 use super::equirect::{
-    equirect_direction, equirect_direction_sin, equirect_solid_angle_pdf, equirect_uv, equirect_uv_lanes,
-    equirect_uv_sin,
+    equirect_direction, equirect_direction_lanes, equirect_direction_sin, equirect_solid_angle_pdf, equirect_uv,
+    equirect_uv_lanes, equirect_uv_sin,
 };
 use crate::color::{luminance, Color};
 use crate::geometry::{Transform, Vec2, Vec3, Vec3Lanes, LANES};
-use crate::memory::prefetch;
-use crate::sampling::{uniform_sphere, PiecewiseConstant2D, RowSample};
+use crate::sampling::{uniform_sphere, PiecewiseConstant2D};
 use crate::texels::{check_image_size, ImageSizeError, TexelGrid};
 use crate::texture::{read_image, ColorEncoding, ImageError, TextureImage};
 use glam::Mat3;
@@ -637,23 +636,56 @@ impl EnvironmentMap {
             }
             EnvironmentMapping::EqualArea => (equal_area_square_to_sphere(uv), pdf_uv / (4.0 * PI)),
         };
+        self.sample_li_of(self.lookup(uv), d, pdf)
+    }
+
+    /// The light sample of radiance `l` whose direction in the map's frame
+    /// is `d` and whose solid-angle density is `pdf`.
+    #[inline(always)]
+    fn sample_li_of(&self, l: Color, d: Vec3, pdf: f32) -> Option<LiSample> {
         let pdf = finite_or_zero(pdf);
         if pdf <= 0.0 {
             return None;
         }
         let wi = self.to_world(d);
-        let l = self.lookup(uv);
         (l != Color::ZERO).then_some(LiSample { l, wi, pdf, p_light: None })
     }
 
-    /// See [`Environment::sample_li_locate`].
-    #[inline]
-    fn sample_li_locate(&self, s: &mut RowSample, u: Vec2) {
-        let (first, last) = self.distribution.locate_in_row(s, u.x);
-        // The distribution's cells are the pixels, row by row.
-        let pixels = self.texels.pixels();
-        prefetch(pixels.as_ptr().wrapping_add(first), 1);
-        prefetch(pixels.as_ptr().wrapping_add(last), 1);
+    /// [`EnvironmentMap::sample_li`] of each point of `u`, into `out`: the
+    /// distribution's samples taken together
+    /// ([`PiecewiseConstant2D::sample_many`]), their pixels read in a loop
+    /// of loads that do not wait on each other (each likely a cache miss),
+    /// then a lat-long map's directions across vector lanes
+    /// ([`equirect_direction_lanes`]) while the pixels arrive.
+    fn sample_li_many(&self, u: &[Vec2], out: &mut [Option<LiSample>]) {
+        for (u, out) in u.chunks(LANES).zip(out.chunks_mut(LANES)) {
+            let n = u.len();
+            let mut s = [(Vec2::ZERO, 0.0); LANES];
+            self.distribution.sample_many(u, &mut s[..n]);
+            let mut l = [Color::ZERO; LANES];
+            for (l, &(uv, _)) in l.iter_mut().zip(&s[..n]) {
+                *l = self.lookup(uv);
+            }
+            if self.mapping == EnvironmentMapping::Equirectangular {
+                let (mut uu, mut vv) = ([0.0; LANES], [0.0; LANES]);
+                for (k, &(uv, _)) in s[..n].iter().enumerate() {
+                    (uu[k], vv[k]) = (uv.x, uv.y);
+                }
+                let (mut d, mut sin_theta) = (Vec3Lanes::ZERO, [0.0; LANES]);
+                equirect_direction_lanes(&uu, &vv, n, &mut d, &mut sin_theta);
+                for (k, (out, &(_, pdf_uv))) in out.iter_mut().zip(&s).enumerate() {
+                    *out = if pdf_uv.is_nan() || pdf_uv <= 0.0 {
+                        None
+                    } else {
+                        self.sample_li_of(l[k], d.get(k), equirect_solid_angle_pdf(sin_theta[k], pdf_uv))
+                    };
+                }
+            } else {
+                for (out, &(uv, pdf_uv)) in out.iter_mut().zip(&s) {
+                    *out = self.sample_li_at(uv, pdf_uv);
+                }
+            }
+        }
     }
 
     fn pdf_li(&self, wi: Vec3) -> f32 {
@@ -684,7 +716,7 @@ impl EnvironmentMap {
                     d.set(k, self.to_local(dir));
                 }
                 let (mut u, mut v, mut sin_theta) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
-                equirect_uv_lanes(&d, &mut u, &mut v, &mut sin_theta);
+                equirect_uv_lanes(&d, dirs.len(), &mut u, &mut v, &mut sin_theta);
                 for (k, uv) in uv[..dirs.len()].iter_mut().enumerate() {
                     *uv = (Vec2::new(u[k], v[k]), sin_theta[k]);
                 }
@@ -813,58 +845,41 @@ impl Environment {
         matches!(self, Environment::Image(_))
     }
 
-    /// The first of three steps that take [`Environment::sample_li`] of
-    /// `u` for an image, for a caller with many samples to take, who runs
-    /// each step over all of them before the next, so that the cache misses
-    /// of their reads (a large map's sampling tables and pixels are read at
-    /// random) overlap; each step asks for the memory of the next (see
-    /// [`RowSample`]). This one picks the row of the image. `None` for a
-    /// constant environment (whose samples read no memory: take them with
-    /// [`Environment::sample_li`]).
+    /// [`Environment::sample_li`] of each point of `u`, into `out` (of the
+    /// same length), bit for bit, for a caller with many samples to take
+    /// (the context does not change an environment's samples). An image's
+    /// sampling tables and pixels are read at random, usually from beyond
+    /// the caches: here the reads of many samples overlap
+    /// ([`PiecewiseConstant2D::sample_many`]), and a lat-long map's
+    /// directions are found across vector lanes.
     ///
     /// ```
     /// use lucent::color::Color;
-    /// use lucent::geometry::Vec2;
-    /// use lucent::geometry::Vec3;
+    /// use lucent::geometry::{Vec2, Vec3};
     /// use lucent::light::{Environment, EnvironmentMap, LightSampleContext};
     /// use std::sync::Arc;
     ///
     /// let pixels = (0..32).map(|i| Color::splat(i as f32)).collect();
     /// let env = Environment::Image(Arc::new(EnvironmentMap::new(8, 4, pixels, 1.0, 0.0).unwrap()));
-    /// let u = Vec2::new(0.3, 0.7);
-    /// let mut s = env.sample_li_start(u).unwrap();
-    /// env.sample_li_locate(&mut s, u);
+    /// let u = [Vec2::new(0.3, 0.7), Vec2::new(0.9, 0.1)];
+    /// let mut out = [None; 2];
+    /// env.sample_li_many(&u, &mut out);
     /// let ctx = LightSampleContext { p: Vec3::ZERO, n: Vec3::Y };
-    /// assert_eq!(env.sample_li_finish(&s, u), env.sample_li(&ctx, u));
+    /// assert_eq!(out, [env.sample_li(&ctx, u[0]), env.sample_li(&ctx, u[1])]);
     /// ```
-    #[inline]
-    pub fn sample_li_start(&self, u: Vec2) -> Option<RowSample> {
+    ///
+    /// # Panics
+    /// If `out` and `u` differ in length.
+    pub fn sample_li_many(&self, u: &[Vec2], out: &mut [Option<LiSample>]) {
+        assert_eq!(u.len(), out.len(), "one sample per point");
         match self {
-            Environment::Image(map) => Some(map.distribution.sample_row(u)),
-            Environment::Constant(_) => None,
-        }
-    }
-
-    /// The second step (see [`Environment::sample_li_start`]): finds where
-    /// in its row the sample will fall, and asks for the memory of that
-    /// part of the row and of its pixels.
-    #[inline]
-    pub fn sample_li_locate(&self, s: &mut RowSample, u: Vec2) {
-        if let Environment::Image(map) = self {
-            map.sample_li_locate(s, u);
-        }
-    }
-
-    /// The last step (see [`Environment::sample_li_start`]): the light
-    /// sample, [`Environment::sample_li`]'s of `u` bit for bit.
-    #[inline]
-    pub fn sample_li_finish(&self, s: &RowSample, u: Vec2) -> Option<LiSample> {
-        match self {
-            Environment::Image(map) => {
-                let (uv, pdf_uv) = map.distribution.sample_in_row(s, u.x);
-                map.sample_li_at(uv, pdf_uv)
+            Environment::Image(map) => map.sample_li_many(u, out),
+            Environment::Constant(_) => {
+                let ctx = LightSampleContext { p: Vec3::ZERO, n: Vec3::ZERO };
+                for (out, &u) in out.iter_mut().zip(u) {
+                    *out = self.sample_li(&ctx, u);
+                }
             }
-            Environment::Constant(_) => None,
         }
     }
 
@@ -1006,14 +1021,6 @@ mod tests {
         for _ in 0..m {
             let u = Vec2::new(rng.uniform(), rng.uniform());
             let sample = env.sample_li(&ctx, u);
-            // Taken in steps, an image's sample is the same, bit for bit.
-            if let Some(mut staged) = env.sample_li_start(u) {
-                env.sample_li_locate(&mut staged, u);
-                let bits = |s: Option<LiSample>| {
-                    s.map(|s| (s.l.to_array().map(f32::to_bits), s.wi.to_array().map(f32::to_bits), s.pdf.to_bits()))
-                };
-                assert_eq!(bits(env.sample_li_finish(&staged, u)), bits(sample), "{u}");
-            }
             if let Some(s) = sample {
                 assert!(s.p_light.is_none());
                 let pdf = env.pdf_li(s.wi);
@@ -1251,6 +1258,46 @@ mod tests {
             EnvironmentMap::new(4, 2, vec![Color::ONE; 7], 1.0, 0.0),
             Err(EnvironmentError::PixelCount { .. })
         ));
+    }
+
+    /// Samples taken together ([`Environment::sample_li_many`]) are
+    /// [`Environment::sample_li`]'s bit for bit: lat-long maps (turned, with
+    /// black pixels and a bright patch, whose samples crowd into few bins),
+    /// an equal-area map, and a constant environment, in batches of every
+    /// length around the lane count.
+    #[test]
+    fn samples_together_equal_samples_one_at_a_time() {
+        let mut rng = Pcg32::new(41, 9);
+        let (w, h) = (64, 32);
+        let mut px: Vec<Color> = (0..w * h).map(|_| Color::new(rng.uniform(), rng.uniform(), 0.5)).collect();
+        for p in px.iter_mut().skip(100).step_by(7) {
+            *p = Color::ZERO;
+        }
+        px[w * 5 + 40] = Color::splat(1e5);
+        let maps = [
+            Environment::Image(Arc::new(EnvironmentMap::new(w as u32, h as u32, px.clone(), 2.0, 0.0).unwrap())),
+            Environment::Image(Arc::new(EnvironmentMap::new(w as u32, h as u32, px, 1.0, 37.0).unwrap())),
+            Environment::Image(Arc::new(equal_area(square(), Transform::rotate_x(30.0)))),
+            Environment::uniform(Color::new(0.5, 1.0, 2.0), 1.0, None).unwrap(),
+        ];
+        let ctx = LightSampleContext { p: Vec3::ZERO, n: Vec3::ZERO };
+        let bits = |s: &Option<LiSample>| {
+            s.map(|s| (s.l.to_array().map(f32::to_bits), s.wi.to_array().map(f32::to_bits), s.pdf.to_bits()))
+        };
+        for env in &maps {
+            let mut us: Vec<Vec2> = (0..5000).map(|_| Vec2::new(rng.uniform(), rng.uniform())).collect();
+            us.extend([Vec2::ZERO, Vec2::splat(1.0f32.next_down()), Vec2::new(0.5, 0.0), Vec2::new(0.0, 0.5)]);
+            let want: Vec<Option<LiSample>> = us.iter().map(|&u| env.sample_li(&ctx, u)).collect();
+            for batch in [1, 3, LANES - 1, LANES, LANES + 1, 2 * LANES + 5] {
+                for (us, want) in us.chunks(batch).zip(want.chunks(batch)) {
+                    let mut got = vec![None; us.len()];
+                    env.sample_li_many(us, &mut got);
+                    for ((u, g), w) in us.iter().zip(&got).zip(want) {
+                        assert_eq!(bits(g), bits(w), "{env:?}, batch {batch}, {u}");
+                    }
+                }
+            }
+        }
     }
 
     // ---- Equal-area maps and general placements ----

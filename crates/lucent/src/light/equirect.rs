@@ -6,7 +6,7 @@
 use crate::geometry::isa;
 #[cfg(target_arch = "x86_64")]
 use crate::geometry::Isa;
-use crate::geometry::{atan2, Vec2, Vec3, Vec3Lanes, LANES};
+use crate::geometry::{atan2, group, set_group, sin_cos, sin_cos_lane, Vec2, Vec3, Vec3Lanes, GROUP, LANES};
 use std::f32::consts::PI;
 
 /// The unit direction (in the environment's own frame) at `(u, v)` of the
@@ -22,9 +22,74 @@ pub fn equirect_direction(uv: Vec2) -> Vec3 {
 pub(super) fn equirect_direction_sin(uv: Vec2) -> (Vec3, f32) {
     let theta = PI * uv.y;
     let phi = 2.0 * PI * (uv.x - 0.5);
-    let (sin_t, cos_t) = theta.sin_cos();
-    let (sin_p, cos_p) = phi.sin_cos();
+    // Lucent's sine and cosine (the C library's values; inline, and the
+    // same in [`equirect_direction_lanes`]).
+    let (sin_t, cos_t) = sin_cos(theta);
+    let (sin_p, cos_p) = sin_cos(phi);
+    direction_of(sin_t, cos_t, sin_p, cos_p)
+}
+
+/// The direction at polar angle `θ` and azimuth `φ`, given their sines and
+/// cosines.
+#[inline(always)]
+fn direction_of(sin_t: f32, cos_t: f32, sin_p: f32, cos_p: f32) -> (Vec3, f32) {
     (Vec3::new(sin_t * sin_p, cos_t, -sin_t * cos_p), sin_t)
+}
+
+/// [`equirect_direction_sin`] of `(u[k], v[k])` for the lanes `k < n` (in
+/// groups of [`GROUP`]: lanes past `n` in the last group give values the
+/// caller does not use),
+/// into `d` and `sin_theta`, bit for bit, in vector instructions where the
+/// CPU has them. `u` and `v` must be in `[0, 1]` (samples of the map's
+/// distribution are), where both angles are within
+/// [`sin_cos_lane`]'s range.
+pub(super) fn equirect_direction_lanes(
+    u: &[f32; LANES],
+    v: &[f32; LANES],
+    n: usize,
+    d: &mut Vec3Lanes,
+    sin_theta: &mut [f32; LANES],
+) {
+    match isa() {
+        // SAFETY: `isa` found AVX2 (AVX-512 includes it).
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx2 | Isa::Avx512 => unsafe { direction_lanes_avx2(u, v, n, d, sin_theta) },
+        _ => direction_lanes(u, v, n, d, sin_theta),
+    }
+}
+
+/// [`direction_lanes`] compiled for AVX2.
+///
+/// # Safety
+/// The CPU must have AVX2 and FMA (see [`uv_lanes_avx2`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn direction_lanes_avx2(
+    u: &[f32; LANES],
+    v: &[f32; LANES],
+    n: usize,
+    d: &mut Vec3Lanes,
+    sin_theta: &mut [f32; LANES],
+) {
+    direction_lanes(u, v, n, d, sin_theta);
+}
+
+/// The lanes' loop: [`equirect_direction_sin`]'s operations, with
+/// [`sin_cos_lane`] for [`sin_cos`] (the same function in its range).
+#[inline(always)]
+fn direction_lanes(u: &[f32; LANES], v: &[f32; LANES], n: usize, d: &mut Vec3Lanes, sin_theta: &mut [f32; LANES]) {
+    for c in (0..n.min(LANES)).step_by(GROUP) {
+        let (gu, gv) = (group(u, c), group(v, c));
+        let (mut g, mut gs) = ([[0.0; GROUP]; 3], [0.0; GROUP]);
+        for k in 0..GROUP {
+            let (sin_t, cos_t) = sin_cos_lane(PI * gv[k]);
+            let (sin_p, cos_p) = sin_cos_lane(2.0 * PI * (gu[k] - 0.5));
+            let (dir, s) = direction_of(sin_t, cos_t, sin_p, cos_p);
+            (g[0][k], g[1][k], g[2][k], gs[k]) = (dir.x, dir.y, dir.z, s);
+        }
+        d.set_group(c, g);
+        set_group(sin_theta, c, gs);
+    }
 }
 
 /// The `(u, v)` in `[0, 1]²` of direction `d` (in the environment's own
@@ -60,12 +125,13 @@ pub(super) fn equirect_solid_angle_pdf(sin_theta: f32, pdf_uv: f32) -> f32 {
     pdf_uv / (2.0 * PI * PI * sin_theta)
 }
 
-/// [`equirect_uv_sin`] of every lane of `d` (all [`LANES`]; lanes past
-/// the caller's count give values it does not use), into `u`, `v` and
-/// `sin_theta`, bit for bit, in vector instructions where the CPU has
-/// them.
+/// [`equirect_uv_sin`] of the lanes `k < n` of `d` (in groups of
+/// [`GROUP`]: lanes past `n` in the last group give values the caller does
+/// not use), into `u`, `v` and `sin_theta`, bit for bit, in vector
+/// instructions where the CPU has them.
 pub(super) fn equirect_uv_lanes(
     d: &Vec3Lanes,
+    n: usize,
     u: &mut [f32; LANES],
     v: &mut [f32; LANES],
     sin_theta: &mut [f32; LANES],
@@ -73,8 +139,8 @@ pub(super) fn equirect_uv_lanes(
     match isa() {
         // SAFETY: `isa` found AVX2 (AVX-512 includes it).
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 | Isa::Avx512 => unsafe { uv_lanes_avx2(d, u, v, sin_theta) },
-        _ => uv_lanes(d, u, v, sin_theta),
+        Isa::Avx2 | Isa::Avx512 => unsafe { uv_lanes_avx2(d, n, u, v, sin_theta) },
+        _ => uv_lanes(d, n, u, v, sin_theta),
     }
 }
 
@@ -86,16 +152,29 @@ pub(super) fn equirect_uv_lanes(
 /// the values are the portable build's.)
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn uv_lanes_avx2(d: &Vec3Lanes, u: &mut [f32; LANES], v: &mut [f32; LANES], sin_theta: &mut [f32; LANES]) {
-    uv_lanes(d, u, v, sin_theta);
+unsafe fn uv_lanes_avx2(
+    d: &Vec3Lanes,
+    n: usize,
+    u: &mut [f32; LANES],
+    v: &mut [f32; LANES],
+    sin_theta: &mut [f32; LANES],
+) {
+    uv_lanes(d, n, u, v, sin_theta);
 }
 
-/// The lanes' loop.
+/// The lanes' loop, a group at a time.
 #[inline(always)]
-fn uv_lanes(d: &Vec3Lanes, u: &mut [f32; LANES], v: &mut [f32; LANES], sin_theta: &mut [f32; LANES]) {
-    for k in 0..LANES {
-        let (uv, s) = equirect_uv_sin(Vec3::new(d.x[k], d.y[k], d.z[k]));
-        (u[k], v[k], sin_theta[k]) = (uv.x, uv.y, s);
+fn uv_lanes(d: &Vec3Lanes, n: usize, u: &mut [f32; LANES], v: &mut [f32; LANES], sin_theta: &mut [f32; LANES]) {
+    for c in (0..n.min(LANES)).step_by(GROUP) {
+        let [x, y, z] = d.group(c);
+        let (mut gu, mut gv, mut gs) = ([0.0; GROUP], [0.0; GROUP], [0.0; GROUP]);
+        for k in 0..GROUP {
+            let (uv, s) = equirect_uv_sin(Vec3::new(x[k], y[k], z[k]));
+            (gu[k], gv[k], gs[k]) = (uv.x, uv.y, s);
+        }
+        set_group(u, c, gu);
+        set_group(v, c, gv);
+        set_group(sin_theta, c, gs);
     }
 }
 
@@ -125,13 +204,50 @@ mod tests {
             }
             let (mut u, mut v, mut s) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
             let (mut u2, mut v2, mut s2) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
-            uv_lanes(&d, &mut u, &mut v, &mut s);
-            equirect_uv_lanes(&d, &mut u2, &mut v2, &mut s2);
+            uv_lanes(&d, LANES, &mut u, &mut v, &mut s);
+            equirect_uv_lanes(&d, LANES, &mut u2, &mut v2, &mut s2);
             for k in 0..LANES {
                 let (uv, sin) = equirect_uv_sin(d.get(k));
                 let want = (uv.x.to_bits(), uv.y.to_bits(), sin.to_bits());
                 assert_eq!((u[k].to_bits(), v[k].to_bits(), s[k].to_bits()), want, "portable, {}", d.get(k));
                 assert_eq!((u2[k].to_bits(), v2[k].to_bits(), s2[k].to_bits()), want, "this CPU's, {}", d.get(k));
+            }
+        }
+    }
+
+    /// The lanes give each point's [`equirect_direction_sin`] bit for bit,
+    /// in both builds, on the square's edges and its middle lines too.
+    #[test]
+    fn direction_lanes_equal_one_at_a_time() {
+        let mut rng = Pcg32::new(5, 2);
+        let edges = [0.0, 0.25, 0.5, 0.75, 1.0f32.next_down(), 1.0];
+        for batch in 0..400 {
+            let (mut u, mut v) = ([0.0; LANES], [0.0; LANES]);
+            for k in 0..LANES {
+                let pick = |r: f32| if (batch + k) % 4 == 0 { edges[(r * 6.0) as usize % 6] } else { r };
+                (u[k], v[k]) = (pick(rng.uniform()), pick(rng.uniform()));
+            }
+            let (mut d, mut s) = (Vec3Lanes::ZERO, [0.0; LANES]);
+            let (mut d2, mut s2) = (Vec3Lanes::ZERO, [0.0; LANES]);
+            direction_lanes(&u, &v, LANES, &mut d, &mut s);
+            equirect_direction_lanes(&u, &v, LANES, &mut d2, &mut s2);
+            for k in 0..LANES {
+                let (dir, sin) = equirect_direction_sin(Vec2::new(u[k], v[k]));
+                let want = (dir.to_array().map(f32::to_bits), sin.to_bits());
+                assert_eq!(
+                    (d.get(k).to_array().map(f32::to_bits), s[k].to_bits()),
+                    want,
+                    "portable, {} {}",
+                    u[k],
+                    v[k]
+                );
+                assert_eq!(
+                    (d2.get(k).to_array().map(f32::to_bits), s2[k].to_bits()),
+                    want,
+                    "this CPU's, {} {}",
+                    u[k],
+                    v[k]
+                );
             }
         }
     }

@@ -14,13 +14,14 @@
 //! few CDF entries between them, with exactly the answer of the full
 //! search, so the sampled points are unchanged.
 //!
-//! **Reading ahead.** [`PiecewiseConstant2D`] keeps its rows' tables in
-//! two flat arrays (the bins, the guide tables), so that a sample's reads
-//! depend on no pointer but the row. For a large table (an environment
-//! map of 512 × 256 has 1 MB of rows) the row's guide entries and bins are
-//! usually cache misses; a caller with many samples to take can take them
-//! in steps ([`RowSample`]), each asking for the memory of the next, so
-//! that the misses overlap.
+//! **Many samples at once.** [`PiecewiseConstant2D`] keeps its rows'
+//! tables in two flat arrays (the bins, the guide tables), so that a
+//! sample's reads depend on no pointer but the row. For a large table (an
+//! environment map of 512 × 256 has 1 MB of rows) the row's guide entries
+//! and bins are usually cache misses; a caller with many samples to take
+//! takes them together ([`PiecewiseConstant2D::sample_many`]), each step of
+//! the searches for all of them before the next, so that the misses
+//! overlap.
 //!
 //! **Zero functions.** A function that is zero everywhere (or has no
 //! entries) cannot be normalised. All three types then fall back to the
@@ -28,6 +29,7 @@
 //! returned pdf is always the density actually used. Negative entries count
 //! by their absolute value and non-finite entries count as zero.
 
+use crate::geometry::LANES;
 use crate::memory::prefetch;
 use glam::Vec2;
 
@@ -197,26 +199,21 @@ fn guide_slice(guide: &[u32], u: f32) -> usize {
     ((u * slices as f32) as usize).min(slices - 1)
 }
 
-/// The bin that a sample `u` picks, given its span from [`cdf_span`]: the
-/// last bin whose CDF start is `≤ u` (zero-width bins are skipped, because
-/// the next bin starts at the same value).
-#[inline]
-fn sampled_bin_in(bins: &[[f32; 2]], span: (usize, usize), u: f32) -> usize {
-    cdf_rank_in(bins, span, u).saturating_sub(1).min(bins.len() - 2)
-}
-
 /// [`PiecewiseConstant1D::sample`] of the table `bins` with its guide
 /// table `guide`.
 #[inline]
 fn sample_table(bins: &[[f32; 2]], guide: &[u32], u: f32) -> (f32, f32, usize) {
-    sample_span(bins, cdf_span(bins, guide, u), u)
+    sample_at_rank(bins, cdf_rank_in(bins, cdf_span(bins, guide, u), u), u)
 }
 
-/// [`sample_table`] once the span of the search is known.
-#[inline]
-fn sample_span(bins: &[[f32; 2]], span: (usize, usize), u: f32) -> (f32, f32, usize) {
+/// The sample of `u` from the table `bins`, given `rank`, the number of
+/// its CDF entries `≤ u`: the point in the last bin whose CDF start is
+/// `≤ u` (zero-width bins are skipped, because the next bin starts at the
+/// same value), its density and the bin.
+#[inline(always)]
+fn sample_at_rank(bins: &[[f32; 2]], rank: usize, u: f32) -> (f32, f32, usize) {
     let n = bins.len() - 1;
-    let o = sampled_bin_in(bins, span, u);
+    let o = rank.saturating_sub(1).min(n - 1);
     let [start, density] = bins[o];
     let width = bins[o + 1][0] - start;
     let mut du = u - start;
@@ -227,34 +224,84 @@ fn sample_span(bins: &[[f32; 2]], span: (usize, usize), u: f32) -> (f32, f32, us
     (x, density, o)
 }
 
-/// A sample of a [`PiecewiseConstant2D`] taken in three steps, for a
-/// caller with many samples to take: each step asks for the memory the
-/// next one reads, and the caller runs each step over all its samples
-/// before the next, so that their cache misses (a large table's rows are
-/// read at random) overlap instead of following one another.
-///
-/// 1. [`PiecewiseConstant2D::sample_row`]: the row, from the marginal table
-///    (small, and cached); asks for the row's guide entries;
-/// 2. [`PiecewiseConstant2D::locate_in_row`]: reads them; asks for the
-///    bins the search will read;
-/// 3. [`PiecewiseConstant2D::sample_in_row`]: the search, and the point:
-///    bit for bit [`PiecewiseConstant2D::sample`]'s.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct RowSample {
-    /// The point's `v` and its marginal density.
-    v: f32,
-    pdf_v: f32,
-    /// The row.
-    row: u32,
-    /// The span of the row's CDF the search reads (from step 2).
-    lo: u32,
-    hi: u32,
+/// Equal-length tables laid end to end in one array (a
+/// [`PiecewiseConstant2D`]'s rows, or one table alone), for
+/// [`TablesOf::sample_lanes`].
+struct TablesOf<'a> {
+    /// Every table's bins: table `t`'s are `bins[t * len..(t + 1) * len]`.
+    bins: &'a [[f32; 2]],
+    /// Every table's guide table, likewise `guide_len` entries apart.
+    guide: &'a [u32],
+    len: usize,
+    guide_len: usize,
 }
 
-impl RowSample {
-    /// The sampled row.
-    pub fn row(&self) -> usize {
-        self.row as usize
+impl TablesOf<'_> {
+    /// [`sample_table`] of `u[k]` from table `table[k]`, for each of the
+    /// first `n` lanes, into `out[k]` (point, density, bin) bit for bit.
+    ///
+    /// One search at a time is a chain of loads, each waiting on the one
+    /// before, in a loop whose length changes from sample to sample. Here
+    /// every lane still searching takes a step of its binary search before
+    /// any takes the next, so the loads of the lanes overlap (cache misses
+    /// included). The order of the steps cannot change the answer: the
+    /// CDF is non-decreasing, so the number of its entries `≤ u` is one
+    /// number however it is found.
+    #[inline(always)]
+    fn sample_lanes(&self, table: &[u32; LANES], u: &[f32; LANES], n: usize, out: &mut [(f32, f32, usize); LANES]) {
+        let len = self.len;
+        // Each lane's span (from its guide table): the index in `bins` of
+        // its first entry, and its length.
+        let (mut lo, mut size) = ([0usize; LANES], [0usize; LANES]);
+        for k in 0..n {
+            let t = table[k] as usize;
+            let (bins, guide) = self.table(t);
+            let (l, h) = cdf_span(bins, guide, u[k]);
+            (lo[k], size[k]) = (t * len + l, h - l);
+            // Ask for the span's ends now: every step below, and the
+            // sample's bin, read between them.
+            prefetch(bins.as_ptr().wrapping_add(l.saturating_sub(1)), 1);
+            prefetch(bins.as_ptr().wrapping_add(h), 1);
+        }
+        // The binary search: halve each span, keeping the upper half where
+        // its first entry is ≤ u, until one entry is left. Most spans start
+        // with one entry or none (a guide slice usually holds one CDF entry
+        // or none), a few with hundreds (where the density is low): only
+        // the lanes still searching take the next step, so each lane takes
+        // as many as its own span needs.
+        let mut active = [0u8; LANES];
+        let mut m = 0;
+        for (k, &size) in size[..n].iter().enumerate() {
+            active[m] = k as u8;
+            m += (size > 1) as usize;
+        }
+        while m > 0 {
+            let mut still = 0;
+            for j in 0..m {
+                let k = active[j] as usize;
+                let half = size[k] / 2;
+                let mid = lo[k] + half;
+                // (Without a branch on the comparison, whose outcome is a
+                // coin toss.)
+                lo[k] = std::hint::select_unpredictable(self.bins[mid][0] <= u[k], mid, lo[k]);
+                size[k] -= half;
+                active[still] = k as u8;
+                still += (size[k] > 1) as usize;
+            }
+            m = still;
+        }
+        for k in 0..n {
+            let start = table[k] as usize * len;
+            // The span's last entry, if it is ≤ u, counts too.
+            let last = size[k] == 1 && self.bins[lo[k]][0] <= u[k];
+            out[k] = sample_at_rank(&self.bins[start..start + len], lo[k] - start + last as usize, u[k]);
+        }
+    }
+
+    /// Table `t`'s bins and guide table.
+    #[inline(always)]
+    fn table(&self, t: usize) -> (&[[f32; 2]], &[u32]) {
+        (&self.bins[t * self.len..(t + 1) * self.len], &self.guide[t * self.guide_len..(t + 1) * self.guide_len])
     }
 }
 
@@ -331,41 +378,60 @@ impl PiecewiseConstant2D {
         (&self.conditional[row * b..(row + 1) * b], &self.conditional_guide[row * g..(row + 1) * g])
     }
 
-    /// The first step of a sample taken in steps ([`RowSample`]): `u.y`
-    /// picks the row; the row's guide entries for `u.x` are asked for.
-    #[inline]
-    pub fn sample_row(&self, u: Vec2) -> RowSample {
-        let (v, pdf_v, row) = self.marginal.sample(u.y);
-        let (_, guide) = self.row(row);
-        let k = guide_slice(guide, u.x);
-        prefetch(guide.as_ptr().wrapping_add(k), 1);
-        RowSample { v, pdf_v, row: row as u32, lo: 0, hi: 0 }
-    }
-
-    /// The second step: read the row's guide entries for `u_x` and ask for
-    /// the bins the search will read. Returns the cells (row by row, as
-    /// [`PiecewiseConstant2D::cell`]) among which the sample will fall,
-    /// first and last, for a caller that looks data of the cell up too.
-    #[inline]
-    pub fn locate_in_row(&self, s: &mut RowSample, u_x: f32) -> (usize, usize) {
-        let row = s.row();
-        let (bins, guide) = self.row(row);
-        let (lo, hi) = cdf_span(bins, guide, u_x);
-        (s.lo, s.hi) = (lo as u32, hi as u32);
-        // The sample falls in bin rank − 1 with the rank in lo..=hi.
-        let (first, last) = (lo.saturating_sub(1).min(self.nu - 1), hi.saturating_sub(1).min(self.nu - 1));
-        prefetch(bins.as_ptr().wrapping_add(first), 1);
-        prefetch(bins.as_ptr().wrapping_add(last + 1), 1);
-        (row * self.nu + first, row * self.nu + last)
-    }
-
-    /// The last step: the point and its density, those of
-    /// [`PiecewiseConstant2D::sample`] of the same `u` bit for bit.
-    #[inline]
-    pub fn sample_in_row(&self, s: &RowSample, u_x: f32) -> (Vec2, f32) {
-        let (bins, _) = self.row(s.row());
-        let (x, pdf_u, _) = sample_span(bins, (s.lo as usize, s.hi as usize), u_x);
-        (Vec2::new(x, s.v), s.pdf_v * pdf_u)
+    /// [`PiecewiseConstant2D::sample`] of each point of `u`, into `out`
+    /// (of the same length), bit for bit, for a caller with many samples
+    /// to take. A large table's rows are read at random (an environment
+    /// map of 512 × 256 has 1 MB of them) and are usually cache misses:
+    /// here up to [`LANES`] samples take each step of their two searches
+    /// together (the marginal's, then their rows'), so that the misses of
+    /// all of them overlap instead of following one another.
+    ///
+    /// ```
+    /// use lucent::geometry::Vec2;
+    /// use lucent::sampling::PiecewiseConstant2D;
+    ///
+    /// let d = PiecewiseConstant2D::new(&[1.0, 2.0, 3.0, 0.0, 5.0, 6.0], 3, 2);
+    /// let u = [Vec2::new(0.1, 0.9), Vec2::new(0.7, 0.2)];
+    /// let mut out = [(Vec2::ZERO, 0.0); 2];
+    /// d.sample_many(&u, &mut out);
+    /// assert_eq!(out, [d.sample(u[0]), d.sample(u[1])]);
+    /// ```
+    ///
+    /// # Panics
+    /// If `out` and `u` differ in length.
+    pub fn sample_many(&self, u: &[Vec2], out: &mut [(Vec2, f32)]) {
+        assert_eq!(u.len(), out.len(), "one sample per point");
+        let marginal = TablesOf {
+            bins: &self.marginal.bins,
+            guide: &self.marginal.guide,
+            len: self.marginal.bins.len(),
+            guide_len: self.marginal.guide.len(),
+        };
+        let rows = TablesOf {
+            bins: &self.conditional,
+            guide: &self.conditional_guide,
+            len: self.nu + 1,
+            guide_len: self.guide_len,
+        };
+        for (u, out) in u.chunks(LANES).zip(out.chunks_mut(LANES)) {
+            let n = u.len();
+            let (mut ux, mut uy) = ([0.0; LANES], [0.0; LANES]);
+            for (k, u) in u.iter().enumerate() {
+                (ux[k], uy[k]) = (u.x, u.y);
+            }
+            // The rows, from the marginal table; then the columns.
+            let mut v = [(0.0, 0.0, 0); LANES];
+            marginal.sample_lanes(&[0; LANES], &uy, n, &mut v);
+            let mut row = [0u32; LANES];
+            for k in 0..n {
+                row[k] = v[k].2 as u32;
+            }
+            let mut x = [(0.0, 0.0, 0); LANES];
+            rows.sample_lanes(&row, &ux, n, &mut x);
+            for (k, out) in out.iter_mut().enumerate() {
+                *out = (Vec2::new(x[k].0, v[k].0), v[k].1 * x[k].1);
+            }
+        }
     }
 
     /// The density at `uv`: exactly what [`PiecewiseConstant2D::sample`]
@@ -664,51 +730,58 @@ mod tests {
         }
     }
 
-    /// A sample taken in steps ([`RowSample`]) is [`PiecewiseConstant2D::sample`]'s
-    /// bit for bit, and the sample's cell (the bins its two searches pick)
-    /// lies between the cells `locate_in_row` returns, for tables with zero
-    /// rows, zero runs and spikes, and samples on the slice boundaries and
-    /// outside `[0, 1)`.
+    /// Samples taken together ([`PiecewiseConstant2D::sample_many`]) are
+    /// [`PiecewiseConstant2D::sample`]'s bit for bit, for tables with zero
+    /// rows, zero runs and spikes (whose guide slices span many bins or
+    /// none), samples on the slice boundaries and outside `[0, 1)`, and
+    /// batches of every length around the lane count.
     #[test]
-    fn samples_in_steps_equal_samples_at_once() {
+    fn samples_together_equal_samples_one_at_a_time() {
         let mut rng = Pcg32::new(23, 1);
-        for (nu, nv) in [(1, 1), (7, 3), (64, 32), (513, 5)] {
-            for shape in 0..3 {
+        for (nu, nv) in [(1, 1), (7, 3), (64, 32), (513, 5), (2048, 2)] {
+            for shape in 0..4 {
                 let f: Vec<f32> = (0..nu * nv)
                     .map(|i| match shape {
                         0 => rng.uniform(),
                         1 => ((i / nu) % 2 == 0 && i % 5 == 0) as u8 as f32 * rng.uniform(),
-                        _ => {
+                        2 => {
                             if i == nu * nv / 3 {
                                 1e6
                             } else {
                                 1e-3
                             }
                         }
+                        // Nothing but a few spikes: most slices hold no CDF entry.
+                        _ => (i % 97 == 3) as u8 as f32,
                     })
                     .collect();
                 let d = PiecewiseConstant2D::new(&f, nu, nv);
                 let slices = (d.guide_len - 1) as f32;
                 let mut us: Vec<Vec2> = (0..3000).map(|_| Vec2::new(rng.uniform(), rng.uniform())).collect();
                 us.extend((0..d.guide_len - 1).map(|k| Vec2::new(k as f32 / slices, rng.uniform())));
-                us.extend([Vec2::ZERO, Vec2::splat(1.0f32.next_down()), Vec2::new(1.0, 0.5), Vec2::new(-0.25, 0.5)]);
-                for u in us {
-                    // The cell the sample's searches pick (the point itself
-                    // may round onto the next cell's edge).
-                    let (_, _, sampled_row) = d.marginal.sample(u.y);
-                    let (bins, guide) = d.row(sampled_row);
-                    let cell = sampled_row * nu + sample_table(bins, guide, u.x).2;
-                    let mut s = d.sample_row(u);
-                    assert_eq!(s.row(), sampled_row, "{nu}×{nv}, shape {shape}, {u}");
-                    let (first, last) = d.locate_in_row(&mut s, u.x);
-                    assert!((first..=last).contains(&cell), "{nu}×{nv}, shape {shape}, {u}: {cell} ∉ {first}..={last}");
-                    let (p, pdf) = d.sample_in_row(&s, u.x);
-                    let (p0, pdf0) = d.sample(u);
-                    assert_eq!(
-                        (p.x.to_bits(), p.y.to_bits(), pdf.to_bits()),
-                        (p0.x.to_bits(), p0.y.to_bits(), pdf0.to_bits()),
-                        "{nu}×{nv}, shape {shape}, {u}"
-                    );
+                us.extend((0..d.guide_len - 1).map(|k| Vec2::new(rng.uniform(), k as f32 / slices)));
+                us.extend([
+                    Vec2::ZERO,
+                    Vec2::splat(1.0f32.next_down()),
+                    Vec2::new(1.0, 0.5),
+                    Vec2::new(0.5, 1.0),
+                    Vec2::new(-0.25, 0.5),
+                    Vec2::new(0.5, f32::NAN),
+                    Vec2::new(f32::INFINITY, 0.5),
+                ]);
+                let want: Vec<(Vec2, f32)> = us.iter().map(|&u| d.sample(u)).collect();
+                for batch in [1, 5, LANES - 1, LANES, LANES + 1, 3 * LANES + 7] {
+                    for (us, want) in us.chunks(batch).zip(want.chunks(batch)) {
+                        let mut got = vec![(Vec2::ZERO, 0.0); us.len()];
+                        d.sample_many(us, &mut got);
+                        for ((u, g), w) in us.iter().zip(&got).zip(want) {
+                            assert_eq!(
+                                (g.0.x.to_bits(), g.0.y.to_bits(), g.1.to_bits()),
+                                (w.0.x.to_bits(), w.0.y.to_bits(), w.1.to_bits()),
+                                "{nu}×{nv}, shape {shape}, batch {batch}, {u}"
+                            );
+                        }
+                    }
                 }
             }
         }

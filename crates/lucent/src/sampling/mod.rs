@@ -12,7 +12,7 @@ mod sampler;
 mod spherical_rectangle;
 mod warp;
 
-pub use distribution::{AliasTable, PiecewiseConstant1D, PiecewiseConstant2D, RowSample};
+pub use distribution::{AliasTable, PiecewiseConstant1D, PiecewiseConstant2D};
 pub use pattern::{stratified_2d, PixelSampler};
 pub use rng::{mix_seed, Pcg32};
 pub use sampler::{Sampler, SamplerKind, VertexSamples};

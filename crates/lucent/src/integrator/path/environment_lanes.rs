@@ -5,37 +5,37 @@
 //! column in that row's table, whose pixel is then read. A large map's row
 //! tables and pixels do not fit in the caches, and a sample's reads are
 //! at random, so one lane at a time each sample waited on two or three
-//! cache misses in turn. The light stage of [`super::lanes`] gathers the
-//! non-specular vertices whose light pick is the environment (in a scene
-//! without media) and takes their samples in three steps
-//! ([`Environment::sample_li_start`], [`Environment::sample_li_locate`],
-//! [`Environment::sample_li_finish`]), each over all the lanes before the
-//! next, each asking for the memory of the next: the misses of all the
-//! lanes overlap. The first step runs before the escaped lanes' lookups
-//! of the same image, so that those pass while the memory arrives.
+//! cache misses in turn, and on the loops of its searches. The light stage
+//! of [`super::lanes`] gathers the non-specular vertices whose light pick
+//! is the environment (in a scene without media) and takes their samples
+//! together ([`Environment::sample_li_many`]): each step of the searches
+//! for all the lanes before the next, so that their misses overlap, and a
+//! lat-long map's directions across vector lanes.
 //!
-//! Each lane's sample is [`Environment::sample_li`]'s bit for bit (the
-//! steps are that function's parts, tested equal to it), and it is then
-//! weighed as [`PathIntegrator::sample_light`] weighs it.
+//! Each lane's sample is [`Environment::sample_li`]'s bit for bit (tested
+//! equal to it), and it is then weighed as [`PathIntegrator::sample_light`]
+//! weighs it.
 
 use super::lanes::LightStage;
 #[cfg(doc)]
 use super::PathIntegrator;
 use crate::bsdf::Bsdf;
-use crate::geometry::LANES;
-use crate::light::Environment;
-use crate::sampling::{RowSample, VertexSamples};
+use crate::geometry::{Vec2, LANES};
+use crate::light::{Environment, LiSample};
+use crate::sampling::VertexSamples;
 use crate::scene::Scene;
 
 /// The lanes of one light stage whose light pick is the environment
-/// image, with their samples in progress.
+/// image, with their samples.
 pub(super) struct EnvironmentLanes<'a> {
     env: &'a Environment,
     /// The environment's index among the scene's lights.
     index: usize,
-    /// The lanes taken, with the probability of their light pick and their
-    /// samples after the first step.
-    lanes: [(u8, f32, RowSample); LANES],
+    /// The lanes taken, with the probability of their light pick, the
+    /// sample's point in the square and the light sample.
+    lanes: [(u8, f32); LANES],
+    points: [Vec2; LANES],
+    samples: [Option<LiSample>; LANES],
     len: usize,
     /// Bit `i` is set when lane `i` was taken.
     taken: u64,
@@ -49,15 +49,18 @@ impl<'a> EnvironmentLanes<'a> {
         (env.is_image() && !scene.has_media()).then_some(Self {
             env,
             index,
-            lanes: [(0, 0.0, RowSample::default()); LANES],
+            lanes: [(0, 0.0); LANES],
+            points: [Vec2::ZERO; LANES],
+            samples: [None; LANES],
             len: 0,
             taken: 0,
         })
     }
 
-    /// The first step, for the lanes of `shade` whose vertex is not
-    /// specular and whose light pick is the environment: they are taken.
-    /// (Each step runs out of line, so that profiles show its cost.)
+    /// Takes the lanes of `shade` whose vertex is not specular and whose
+    /// light pick is the environment, and samples the environment for all
+    /// of them. (Each step runs out of line, so that profiles show its
+    /// cost.)
     #[inline(never)]
     pub(super) fn start(&mut self, scene: &Scene, bsdfs: &[Option<Bsdf>], u: &[VertexSamples], shade: &[u8]) {
         let lights = scene.light_set();
@@ -73,37 +76,28 @@ impl<'a> EnvironmentLanes<'a> {
             if light != self.index {
                 continue;
             }
-            let Some(s) = self.env.sample_li_start(u[i].point) else { continue };
-            self.lanes[self.len] = (lane, pmf, s);
+            self.lanes[self.len] = (lane, pmf);
+            self.points[self.len] = u[i].point;
             self.len += 1;
             self.taken |= 1 << i;
         }
+        self.env.sample_li_many(&self.points[..self.len], &mut self.samples[..self.len]);
     }
 
-    /// The second step.
-    #[inline(never)]
-    pub(super) fn locate(&mut self, u: &[VertexSamples]) {
-        for (lane, _, s) in &mut self.lanes[..self.len] {
-            self.env.sample_li_locate(s, u[*lane as usize].point);
-        }
-    }
-
-    /// Whether the first step took `lane`: its light sample is this
-    /// kernel's.
+    /// Whether [`EnvironmentLanes::start`] took `lane`: its light sample is
+    /// this kernel's.
     #[inline]
     pub(super) fn took(&self, lane: u8) -> bool {
         self.taken & (1 << lane) != 0
     }
 
-    /// The last step: each lane's light sample, weighed and, where it
-    /// carries light, tested with a shadow ray; what it finds is added to
-    /// the lane's path.
+    /// Each lane's light sample, weighed and, where it carries light,
+    /// tested with a shadow ray; what it finds is added to the lane's path.
     #[inline(never)]
     pub(super) fn estimate(&self, stage: &mut LightStage) {
-        for &(lane, pmf, ref s) in &self.lanes[..self.len] {
-            let i = lane as usize;
-            let Some(ls) = self.env.sample_li_finish(s, stage.u[i].point) else { continue };
-            stage.add_light_sample(i, pmf, ls);
+        for (&(lane, pmf), ls) in self.lanes[..self.len].iter().zip(&self.samples) {
+            let Some(ls) = *ls else { continue };
+            stage.add_light_sample(lane as usize, pmf, ls);
         }
     }
 }

@@ -255,9 +255,8 @@ impl PathIntegrator {
             // 2. The vertex's sample dimensions, drawn even where unused to
             // keep the pattern fixed.
             Sampler::vertex_lanes(samplers, shade.as_slice(), &mut u);
-            // The environment map's sampling tables are read at random:
-            // ask for them now, and let the escaped lanes' work pass while
-            // they arrive.
+            // The environment image's light samples, for the lanes whose
+            // light pick it is.
             if let Some(e) = &mut environment {
                 e.start(scene, &bsdfs, &u, shade.as_slice());
             }
@@ -266,9 +265,6 @@ impl PathIntegrator {
             }
             // 3. Next-event estimation.
             if nee {
-                if let Some(e) = &mut environment {
-                    e.locate(&u);
-                }
                 if let Some(r) = &mut rectangles {
                     r.clear();
                 }
