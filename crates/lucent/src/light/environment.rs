@@ -444,15 +444,11 @@ impl EnvironmentMap {
         }
         let (w, h) = (width as usize, height as usize);
         let weights: Vec<f32> = match mapping {
-            EnvironmentMapping::Equirectangular => texels
-                .pixels()
-                .iter()
-                .enumerate()
-                .map(|(i, &c)| {
-                    let theta = PI * ((i / w) as f32 + 0.5) / h as f32;
-                    luminance(c) * theta.sin()
-                })
-                .collect(),
+            EnvironmentMapping::Equirectangular => {
+                // sin θ at each row's centre.
+                let sin: Vec<f32> = (0..h).map(|y| (PI * (y as f32 + 0.5) / h as f32).sin()).collect();
+                texels.pixels().iter().enumerate().map(|(i, &c)| luminance(c) * sin[i / w]).collect()
+            }
             // Equal-area: every pixel covers the same solid angle.
             EnvironmentMapping::EqualArea => texels.pixels().iter().map(|&c| luminance(c)).collect(),
         };
@@ -662,11 +658,11 @@ impl EnvironmentMap {
             let n = u.len();
             let mut s = [(Vec2::ZERO, 0.0); LANES];
             self.distribution.sample_many(u, &mut s[..n]);
-            let mut l = [Color::ZERO; LANES];
-            for (l, &(uv, _)) in l.iter_mut().zip(&s[..n]) {
-                *l = self.lookup(uv);
-            }
             if self.mapping == EnvironmentMapping::Equirectangular {
+                let mut l = [Color::ZERO; LANES];
+                for (l, &(uv, _)) in l.iter_mut().zip(&s[..n]) {
+                    *l = self.lookup(uv);
+                }
                 let (mut uu, mut vv) = ([0.0; LANES], [0.0; LANES]);
                 for (k, &(uv, _)) in s[..n].iter().enumerate() {
                     (uu[k], vv[k]) = (uv.x, uv.y);

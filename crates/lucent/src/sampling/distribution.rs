@@ -32,6 +32,7 @@
 use crate::geometry::LANES;
 use crate::memory::prefetch;
 use glam::Vec2;
+use rayon::prelude::*;
 
 /// Clean up one tabulated value: absolute value, non-finite → 0.
 #[inline]
@@ -74,56 +75,12 @@ impl PiecewiseConstant1D {
     /// The density proportional to `f` (see the module docs for zero
     /// functions).
     pub fn new(f: &[f32]) -> Self {
-        let mut func: Vec<f32> = f.iter().map(|&v| sanitize(v)).collect();
-        if func.is_empty() {
-            func.push(0.0);
-        }
-        let n = func.len();
-        // Accumulate in f64 so that long tables keep their small entries.
-        let mut cdf = Vec::with_capacity(n + 1);
-        cdf.push(0.0f64);
-        for &v in &func {
-            let last = *cdf.last().expect("non-empty");
-            cdf.push(last + v as f64 / n as f64);
-        }
-        let total = cdf[n];
-        let (integral, norm) = if total > 0.0 && total.is_finite() {
-            for c in &mut cdf {
-                *c /= total;
-            }
-            (total as f32, total as f32)
-        } else {
-            // Uniform fallback.
-            func.iter_mut().for_each(|v| *v = 1.0);
-            for (i, c) in cdf.iter_mut().enumerate() {
-                *c = i as f64 / n as f64;
-            }
-            (0.0, 1.0)
-        };
-        func.push(0.0);
-        let mut bins: Vec<[f32; 2]> = cdf.into_iter().zip(func).map(|(c, f)| [c as f32, f / norm]).collect();
-        bins[n][0] = 1.0;
-        let guide = Self::guide_table(&bins);
+        // An empty table gets one zero bin.
+        let f = if f.is_empty() { &[0.0][..] } else { f };
+        let mut bins = vec![[0.0; 2]; f.len() + 1];
+        let mut guide = vec![0; guide_len(f.len())];
+        let integral = tabulate(f, &mut Vec::new(), &mut bins, &mut guide);
         Self { bins, guide, integral }
-    }
-
-    /// The guide table of the CDF in `bins`: `K + 1` entries, `K` a power
-    /// of two near the number of bins over [`BINS_PER_GUIDE_SLICE`] (at
-    /// most 2²⁴), entry `k` the number of CDF values `≤ k / K`. (`k` and
-    /// `K` are exact in `f32`, so `k / K` is, and so is the slice `⌊u K⌋`
-    /// of a sample `u`.) One pass over the CDF, which is non-decreasing.
-    fn guide_table(bins: &[[f32; 2]]) -> Vec<u32> {
-        let slices = ((bins.len() - 1) / BINS_PER_GUIDE_SLICE).clamp(1, 1 << 24).next_power_of_two();
-        let mut guide = Vec::with_capacity(slices + 1);
-        let mut count = 0;
-        for k in 0..=slices {
-            let start = k as f32 / slices as f32;
-            while count < bins.len() && bins[count][0] <= start {
-                count += 1;
-            }
-            guide.push(count as u32);
-        }
-        guide
     }
 
     /// Number of bins.
@@ -158,6 +115,63 @@ impl PiecewiseConstant1D {
     fn bin(&self, x: f32) -> usize {
         let n = self.len();
         ((x * n as f32).max(0.0) as usize).min(n - 1)
+    }
+}
+
+/// The number of entries of the guide table of `n` bins: `K + 1`, `K` a
+/// power of two near `n` over [`BINS_PER_GUIDE_SLICE`] (at most 2²⁴).
+fn guide_len(n: usize) -> usize {
+    (n / BINS_PER_GUIDE_SLICE).clamp(1, 1 << 24).next_power_of_two() + 1
+}
+
+/// The table of the density proportional to `f` (not empty), written
+/// into `bins` (`f.len() + 1` entries: see [`PiecewiseConstant1D`]'s
+/// fields) and its guide table into `guide` ([`guide_len`] entries);
+/// returns the integral of `f` as given (0 for a zero function, which is
+/// then sampled uniformly). `cdf` is scratch space, so that the rows of a
+/// [`PiecewiseConstant2D`] are written in place, with one allocation for
+/// all of them.
+fn tabulate(f: &[f32], cdf: &mut Vec<f64>, bins: &mut [[f32; 2]], guide: &mut [u32]) -> f32 {
+    let n = f.len();
+    debug_assert!(n > 0 && bins.len() == n + 1 && guide.len() == guide_len(n));
+    // Accumulate in f64 so that long tables keep their small entries.
+    cdf.clear();
+    cdf.push(0.0f64);
+    let mut sum = 0.0f64;
+    for &v in f {
+        sum += sanitize(v) as f64 / n as f64;
+        cdf.push(sum);
+    }
+    let total = cdf[n];
+    let uniform = !(total > 0.0 && total.is_finite());
+    // (The uniform fallback: every bin 1, the CDF i / n.)
+    let norm = if uniform { 1.0 } else { total as f32 };
+    for (i, bin) in bins[..n].iter_mut().enumerate() {
+        let (c, v) = if uniform { (i as f64 / n as f64, 1.0) } else { (cdf[i] / total, sanitize(f[i])) };
+        *bin = [c as f32, v / norm];
+    }
+    bins[n] = [1.0, 0.0];
+    guide_table(bins, guide);
+    if uniform {
+        0.0
+    } else {
+        total as f32
+    }
+}
+
+/// The guide table of the CDF in `bins`, into `guide`: entry `k` of its
+/// `K + 1` the number of CDF values `≤ k / K`. (`k` and `K` are exact in
+/// `f32`, so `k / K` is, and so is the slice `⌊u K⌋` of a sample `u`.) One
+/// pass over the CDF, which is non-decreasing.
+fn guide_table(bins: &[[f32; 2]], guide: &mut [u32]) {
+    let slices = guide.len() - 1;
+    let mut count = 0;
+    for (k, g) in guide.iter_mut().enumerate() {
+        let start = k as f32 / slices as f32;
+        while count < bins.len() && bins[count][0] <= start {
+            count += 1;
+        }
+        *g = count as u32;
     }
 }
 
@@ -336,23 +350,31 @@ impl PiecewiseConstant2D {
     /// If `f.len() != nu * nv` or either size is zero.
     pub fn new(f: &[f32], nu: usize, nv: usize) -> Self {
         assert!(nu > 0 && nv > 0 && f.len() == nu * nv, "table size {} is not {nu} × {nv}", f.len());
-        let rows: Vec<PiecewiseConstant1D> = f.chunks_exact(nu).map(PiecewiseConstant1D::new).collect();
-        let integrals: Vec<f32> = rows.iter().map(|c| c.integral()).collect();
+        // Every row has `nu` bins, so guide tables of one length. The rows
+        // are written in place, in parallel (the same values whatever the
+        // threads): a large map has millions of bins.
+        let guide_len = guide_len(nu);
+        let mut conditional = vec![[0.0; 2]; nv * (nu + 1)];
+        let mut conditional_guide = vec![0; nv * guide_len];
+        let mut integrals = vec![0.0; nv];
+        conditional
+            .par_chunks_mut(nu + 1)
+            .zip(conditional_guide.par_chunks_mut(guide_len))
+            .zip(f.par_chunks(nu))
+            .zip(integrals.par_iter_mut())
+            .with_min_len(64)
+            .for_each_init(Vec::new, |cdf, (((bins, guide), f), integral)| *integral = tabulate(f, cdf, bins, guide));
         let marginal = PiecewiseConstant1D::new(&integrals);
         // The very products `sample` and `pdf` computed from the two
         // tables, so that they are equal bit for bit.
-        let joint = rows
-            .iter()
+        let joint = conditional
+            .chunks_exact(nu + 1)
             .enumerate()
-            .flat_map(|(row, c)| {
+            .flat_map(|(row, bins)| {
                 let pdf_v = marginal.bins[row][1];
-                c.bins[..nu].iter().map(move |b| pdf_v * b[1])
+                bins[..nu].iter().map(move |b| pdf_v * b[1])
             })
             .collect();
-        // Every row has `nu` bins, so guide tables of one length.
-        let guide_len = rows[0].guide.len();
-        let conditional = rows.iter().flat_map(|c| c.bins.iter().copied()).collect();
-        let conditional_guide = rows.iter().flat_map(|c| c.guide.iter().copied()).collect();
         Self { conditional, conditional_guide, guide_len, marginal, joint, nu }
     }
 
@@ -728,6 +750,36 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The rows of a 2D table, written in place and in parallel, are the
+    /// 1D tables of the rows bit for bit (bins, guide tables, integrals),
+    /// zero rows and non-finite entries included, with enough rows to be
+    /// split among threads.
+    #[test]
+    fn rows_in_place_equal_one_dimensional_tables() {
+        let mut rng = Pcg32::new(31, 7);
+        let (nu, nv) = (37, 300);
+        let f: Vec<f32> = (0..nu * nv)
+            .map(|i| match (i / nu) % 7 {
+                0 => 0.0,
+                1 => f32::NAN,
+                2 => -rng.uniform(),
+                3 if i % nu == 5 => f32::INFINITY,
+                _ => rng.uniform() * 100.0,
+            })
+            .collect();
+        let d = PiecewiseConstant2D::new(&f, nu, nv);
+        let mut integrals = Vec::new();
+        for (row, values) in f.chunks_exact(nu).enumerate() {
+            let want = PiecewiseConstant1D::new(values);
+            let (bins, guide) = d.row(row);
+            let bits = |b: &[[f32; 2]]| b.iter().map(|b| b.map(f32::to_bits)).collect::<Vec<_>>();
+            assert_eq!(bits(bins), bits(&want.bins), "row {row}");
+            assert_eq!(guide, &want.guide[..], "row {row}");
+            integrals.push(want.integral());
+        }
+        assert_eq!(d.marginal, PiecewiseConstant1D::new(&integrals));
     }
 
     /// Samples taken together ([`PiecewiseConstant2D::sample_many`]) are

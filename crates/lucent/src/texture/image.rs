@@ -310,6 +310,13 @@ fn decode_with_rule(
         3 => 3,
         _ => 4,
     };
+    // Float texels are linear already: their buffer is kept, not copied.
+    let texels = |data: Vec<f32>| TextureImage::new(w, h, channels, data).map_err(|m| ImageError::new(path, m));
+    let other = match dynamic {
+        DynamicImage::ImageRgb32F(b) => return texels(b.into_raw()),
+        DynamicImage::ImageRgba32F(b) => return texels(b.into_raw()),
+        other => other,
+    };
     let mut data = alloc_f32(path, w as usize * h as usize * channels)?;
     let lut = encoding.table8();
     // Alpha is stored linearly whatever the colour encoding.
@@ -324,7 +331,7 @@ fn decode_with_rule(
             data.push(if c == 3 { x } else { encoding.to_linear(x) });
         }
     };
-    match &dynamic {
+    match &other {
         DynamicImage::ImageLuma8(b) => b.as_raw().chunks_exact(1).for_each(|p| push8(&mut data, p, 1)),
         DynamicImage::ImageLumaA8(b) => b.as_raw().chunks_exact(2).for_each(|p| push8(&mut data, p, 1)),
         DynamicImage::ImageRgb8(b) => b.as_raw().chunks_exact(3).for_each(|p| push8(&mut data, p, 3)),
@@ -333,8 +340,6 @@ fn decode_with_rule(
         DynamicImage::ImageLumaA16(b) => b.as_raw().chunks_exact(2).for_each(|p| push16(&mut data, p, 1)),
         DynamicImage::ImageRgb16(b) => b.as_raw().chunks_exact(3).for_each(|p| push16(&mut data, p, 3)),
         DynamicImage::ImageRgba16(b) => b.as_raw().chunks_exact(4).for_each(|p| push16(&mut data, p, 4)),
-        DynamicImage::ImageRgb32F(b) => data.extend_from_slice(b.as_raw()),
-        DynamicImage::ImageRgba32F(b) => data.extend_from_slice(b.as_raw()),
         other => {
             // Any future layout: through 32-bit float RGBA, values linear.
             data.extend_from_slice(other.to_rgba32f().as_raw());
@@ -343,7 +348,7 @@ fn decode_with_rule(
             }
         }
     }
-    TextureImage::new(w, h, channels, data).map_err(|m| ImageError::new(path, m))
+    texels(data)
 }
 
 /// The encoding a QOI file declares: byte 13 of its header is 0 for sRGB
