@@ -134,14 +134,12 @@ impl HomogeneousMedium {
         Color::new(tr(self.sigma_t.x, d), tr(self.sigma_t.y, d), tr(self.sigma_t.z, d))
     }
 
-    /// Sample the ray segment `[0, t_max)` (unit direction; `t_max` may be
-    /// infinite) for a path of throughput `beta`, with uniform `u_channel`
-    /// and `u_distance` (see the module docs).
-    pub fn sample(&self, t_max: f32, beta: Color, u_channel: f32, u_distance: f32) -> MediumEvent {
-        if !self.samples_distances() {
-            return MediumEvent::Pass { weight: self.transmittance(t_max) };
-        }
-        // Channel probabilities ∝ β (uniform if β is not usable).
+    /// The channel probabilities for a path of throughput `beta` (∝ β,
+    /// uniform where β is not usable) and the free-flight distance drawn
+    /// with `u_channel` and `u_distance`: the distance to the next
+    /// collision in the chosen channel, infinite where its σₜ is 0.
+    #[inline]
+    fn flight(&self, beta: Color, u_channel: f32, u_distance: f32) -> (Color, f32) {
         let b = beta.max(Color::ZERO);
         let sum = b.x + b.y + b.z;
         let p = if sum > 0.0 && sum.is_finite() { b / sum } else { Color::splat(1.0 / 3.0) };
@@ -154,6 +152,32 @@ impl HomogeneousMedium {
         };
         let sigma = self.sigma_t[c];
         let t = if sigma > 0.0 { -(1.0 - u_distance).ln() / sigma } else { f32::INFINITY };
+        (p, t)
+    }
+
+    /// The distance along the ray within which [`HomogeneousMedium::sample`]
+    /// with the same `beta`, `u_channel` and `u_distance` scatters: it
+    /// returns `Scatter` exactly when this is below its `t_max` (infinite
+    /// for a medium that needs no distances). So a path needs the surface
+    /// it would reach only when that surface is no farther than this: a
+    /// ray query bounded by it (inclusively) finds the surface or, where the path
+    /// collides in the medium first, nothing (and builds no hit record).
+    #[inline]
+    pub fn free_flight(&self, beta: Color, u_channel: f32, u_distance: f32) -> f32 {
+        if !self.samples_distances() {
+            return f32::INFINITY;
+        }
+        self.flight(beta, u_channel, u_distance).1
+    }
+
+    /// Sample the ray segment `[0, t_max)` (unit direction; `t_max` may be
+    /// infinite) for a path of throughput `beta`, with uniform `u_channel`
+    /// and `u_distance` (see the module docs).
+    pub fn sample(&self, t_max: f32, beta: Color, u_channel: f32, u_distance: f32) -> MediumEvent {
+        if !self.samples_distances() {
+            return MediumEvent::Pass { weight: self.transmittance(t_max) };
+        }
+        let (p, t) = self.flight(beta, u_channel, u_distance);
         if t < t_max {
             let tr = self.transmittance(t);
             // Mixture density of distances: Σ p_c σₜ,c T_c(t).
@@ -255,6 +279,59 @@ mod tests {
         let want = (Color::ONE - m.transmittance(0.8)) * le;
         let est = sum / n as f32;
         assert!((est - want).abs().max_element() < 0.01 * want.max_element(), "{est} vs {want}");
+    }
+
+    /// `free_flight` is where `sample` scatters: for any segment length,
+    /// `sample` scatters exactly when the free flight is shorter, at that
+    /// distance, bit for bit; otherwise it passes. So a ray query bounded
+    /// by the free flight decides the segment as an unbounded one would.
+    /// Chromatic, grey, absorbing-only and one-channel-clear media, and
+    /// throughputs with zero, negative and not-finite channels.
+    #[test]
+    fn free_flight_is_where_sample_scatters() {
+        let media = [
+            medium([0.2, 0.9, 0.05], [0.6, 0.1, 1.5]),
+            medium([0.1; 3], [0.4; 3]),
+            medium([1.0, 2.0, 0.5], [0.0; 3]),
+            medium([0.0, 0.3, 0.0], [0.0, 0.2, 0.0]),
+        ];
+        let betas = [
+            Color::ONE,
+            Color::new(0.9, 0.1, 0.0),
+            Color::new(0.0, 0.0, 2.0),
+            Color::new(-1.0, 0.5, 0.5),
+            Color::new(f32::NAN, 1.0, 1.0),
+            Color::ZERO,
+        ];
+        let mut rng = Pcg32::new(17, 4);
+        let mut seen = [0usize; 2];
+        for m in &media {
+            for &beta in &betas {
+                for _ in 0..2_000 {
+                    let (uc, ud) = (rng.uniform(), rng.uniform());
+                    let flight = m.free_flight(beta, uc, ud);
+                    assert!(flight >= 0.0, "{flight}");
+                    let t_max = if rng.uniform() < 0.1 { f32::INFINITY } else { 5.0 * rng.uniform() };
+                    match m.sample(t_max, beta, uc, ud) {
+                        MediumEvent::Scatter { t, .. } => {
+                            assert!(flight < t_max, "scattered at {t}, free flight {flight}, t_max {t_max}");
+                            assert_eq!(t.to_bits(), flight.to_bits());
+                            seen[0] += 1;
+                        }
+                        MediumEvent::Pass { .. } => {
+                            assert!(flight >= t_max, "passed, free flight {flight}, t_max {t_max}");
+                            seen[1] += 1;
+                        }
+                    }
+                    // A surface exactly at the free flight is reached (the
+                    // path integrator bounds its query just above it).
+                    if flight.is_finite() {
+                        assert!(matches!(m.sample(flight, beta, uc, ud), MediumEvent::Pass { .. }));
+                    }
+                }
+            }
+        }
+        assert!(seen.iter().all(|&n| n > 1000), "{seen:?}");
     }
 
     #[test]

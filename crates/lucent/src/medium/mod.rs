@@ -45,6 +45,15 @@ impl Medium {
         }
     }
 
+    /// The distance within which [`Medium::sample`] with the same samples
+    /// scatters (see [`HomogeneousMedium::free_flight`]).
+    #[inline]
+    pub fn free_flight(&self, beta: Color, u_channel: f32, u_distance: f32) -> f32 {
+        match self {
+            Medium::Homogeneous(m) => m.free_flight(beta, u_channel, u_distance),
+        }
+    }
+
     /// Sample where a ray segment `[0, t_max)` scatters, if it does (see
     /// [`HomogeneousMedium::sample`]).
     #[inline]

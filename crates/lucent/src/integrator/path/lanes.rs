@@ -388,8 +388,20 @@ impl PathIntegrator {
         stats: &mut RayStats,
     ) -> Surface {
         let ray = path.ray;
-        scene.intersect_into(&ray, f32::INFINITY, hit);
-        if let Some(m) = path.medium {
+        // In a medium, the segment's two samples first: the distance at
+        // which the path would collide in the medium bounds the ray query,
+        // so that a path that collides before reaching a surface (most
+        // paths in a dense medium) builds no hit record
+        // (`Medium::free_flight`). A surface exactly at that distance is
+        // still reached, as without the bound: the queries' intervals are
+        // open at `t_max`, so the bound is the next float above it. (The
+        // medium decides with the hit found, or none, as before.)
+        let segment = path.medium.map(|m| {
+            let u = (sampler.get_1d(), sampler.get_1d());
+            (m, u, scene.medium(m).free_flight(path.beta, u.0, u.1))
+        });
+        scene.intersect_into(&ray, segment.map_or(f32::INFINITY, |(_, _, t)| t.next_up()), hit);
+        if let Some((m, u, _)) = segment {
             // The segment up to the hit (or infinity) in a medium: it may
             // scatter on the way, or pass with its transmittance. (Out of
             // line: scenes without media never come here.)
@@ -400,7 +412,7 @@ impl PathIntegrator {
                 depth: path.depth,
                 any_non_specular: path.any_non_specular,
             };
-            match self.medium_segment(scene, m, &ray, t_max, at, sampler, stats) {
+            match self.medium_segment(scene, m, &ray, t_max, u, at, sampler, stats) {
                 MediumStep::Pass(weight) => {
                     path.beta *= weight;
                     if path.beta.max_element() <= 0.0 || !path.beta.is_finite() {

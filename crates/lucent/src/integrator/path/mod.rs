@@ -469,8 +469,10 @@ impl PathIntegrator {
     /// A ray segment `[0, t_max)` in `medium`: whether and where the path
     /// scatters, and at a scattering point, the light sampled there (next-
     /// event estimation with the phase function) and the direction the
-    /// phase function continues in (see the type's docs). Out of line: only
-    /// scenes with media call it.
+    /// phase function continues in (see the type's docs). `u` is the
+    /// segment's channel and distance samples, which the caller drew
+    /// before its ray query (bounded by `Medium::free_flight` of them).
+    /// Out of line: only scenes with media call it.
     #[allow(clippy::too_many_arguments)]
     #[inline(never)]
     fn medium_segment(
@@ -479,12 +481,12 @@ impl PathIntegrator {
         medium: MediumId,
         ray: &Ray,
         t_max: f32,
+        (u_channel, u_distance): (f32, f32),
         at: PathVertexState,
         sampler: &mut Sampler,
         stats: &mut RayStats,
     ) -> MediumStep {
         let PathVertexState { beta, eta_scale, depth, any_non_specular } = at;
-        let (u_channel, u_distance) = (sampler.get_1d(), sampler.get_1d());
         let m = scene.medium(medium);
         let (t, weight, emission) = match m.sample(t_max, beta, u_channel, u_distance) {
             MediumEvent::Pass { weight } => return MediumStep::Pass(weight),
