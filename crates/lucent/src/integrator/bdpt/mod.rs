@@ -348,11 +348,18 @@ fn random_walk(
     let mut added = 0;
     let mut skips = 0;
     while added < max_vertices {
-        let hit = scene.intersect(&ray, f32::INFINITY);
+        // In a medium, the segment's samples first: the query is bounded
+        // just above the distance at which the walk would collide in the
+        // medium, so a walk that collides before any surface builds no hit
+        // record (as in the path integrator's surface stage).
+        let segment = medium.map(|m| {
+            let u = (sampler.get_1d(), sampler.get_1d());
+            (m, u, scene.medium(m).free_flight(beta, u.0, u.1))
+        });
+        let hit = scene.intersect(&ray, segment.map_or(f32::INFINITY, |(_, _, t)| t.next_up()));
         // The segment through a medium: scatter in it, or pass with its
         // transmittance.
-        if let Some(m) = medium {
-            let (u_channel, u_distance) = (sampler.get_1d(), sampler.get_1d());
+        if let Some((m, (u_channel, u_distance), _)) = segment {
             let t_max = hit.as_ref().map_or(f32::INFINITY, |si| si.t);
             match scene.medium(m).sample(t_max, beta, u_channel, u_distance) {
                 MediumEvent::Pass { weight } => beta *= weight,
