@@ -8,6 +8,7 @@
 
 mod aov;
 mod bdpt;
+mod medium_segment;
 mod path;
 mod whitted;
 

@@ -160,8 +160,9 @@ impl HomogeneousMedium {
     /// returns `Scatter` exactly when this is below its `t_max` (infinite
     /// for a medium that needs no distances). So a path needs the surface
     /// it would reach only when that surface is no farther than this: a
-    /// ray query bounded by it (inclusively) finds the surface or, where the path
-    /// collides in the medium first, nothing (and builds no hit record).
+    /// ray query bounded by it (inclusively) finds the surface or, where
+    /// the path collides in the medium first, nothing (and builds no hit
+    /// record).
     #[inline]
     pub fn free_flight(&self, beta: Color, u_channel: f32, u_distance: f32) -> f32 {
         if !self.samples_distances() {

@@ -48,6 +48,7 @@
 
 mod vertex;
 
+use super::medium_segment::MediumSegment;
 use super::path::{material_context, MAX_INTERFACE_SKIPS};
 use super::{FilmSplat, Integrator, RayStats};
 use crate::bsdf::TransportMode;
@@ -348,18 +349,13 @@ fn random_walk(
     let mut added = 0;
     let mut skips = 0;
     while added < max_vertices {
-        // In a medium, the segment's samples first: the query is bounded
-        // just above the distance at which the walk would collide in the
-        // medium, so a walk that collides before any surface builds no hit
-        // record (as in the path integrator's surface stage).
-        let segment = medium.map(|m| {
-            let u = (sampler.get_1d(), sampler.get_1d());
-            (m, u, scene.medium(m).free_flight(beta, u.0, u.1))
-        });
-        let hit = scene.intersect(&ray, segment.map_or(f32::INFINITY, |(_, _, t)| t.next_up()));
+        // In a medium, the segment's samples first: its free flight bounds
+        // the query (as in the path tracer's surface stage).
+        let segment = MediumSegment::draw(scene, medium, beta, sampler);
+        let hit = scene.intersect(&ray, MediumSegment::query_bound(segment));
         // The segment through a medium: scatter in it, or pass with its
         // transmittance.
-        if let Some((m, (u_channel, u_distance), _)) = segment {
+        if let Some(MediumSegment { medium: m, u: (u_channel, u_distance), .. }) = segment {
             let t_max = hit.as_ref().map_or(f32::INFINITY, |si| si.t);
             match scene.medium(m).sample(t_max, beta, u_channel, u_distance) {
                 MediumEvent::Pass { weight } => beta *= weight,

@@ -51,6 +51,7 @@ use super::{
 use crate::bsdf::{Bsdf, Bxdf};
 use crate::color::Color;
 use crate::geometry::{Ray, Vec3};
+use crate::integrator::medium_segment::MediumSegment;
 use crate::integrator::RayStats;
 use crate::interaction::SurfaceInteraction;
 use crate::light::{Emitter, LiSample, LightSampleContext};
@@ -388,20 +389,12 @@ impl PathIntegrator {
         stats: &mut RayStats,
     ) -> Surface {
         let ray = path.ray;
-        // In a medium, the segment's two samples first: the distance at
-        // which the path would collide in the medium bounds the ray query,
-        // so that a path that collides before reaching a surface (most
-        // paths in a dense medium) builds no hit record
-        // (`Medium::free_flight`). A surface exactly at that distance is
-        // still reached, as without the bound: the queries' intervals are
-        // open at `t_max`, so the bound is the next float above it. (The
-        // medium decides with the hit found, or none, as before.)
-        let segment = path.medium.map(|m| {
-            let u = (sampler.get_1d(), sampler.get_1d());
-            (m, u, scene.medium(m).free_flight(path.beta, u.0, u.1))
-        });
-        scene.intersect_into(&ray, segment.map_or(f32::INFINITY, |(_, _, t)| t.next_up()), hit);
-        if let Some((m, u, _)) = segment {
+        // In a medium, the segment's samples first: its free flight bounds
+        // the query, so that a path that collides before reaching a surface
+        // (most paths in a dense medium) builds no hit record.
+        let segment = MediumSegment::draw(scene, path.medium, path.beta, sampler);
+        scene.intersect_into(&ray, MediumSegment::query_bound(segment), hit);
+        if let Some(segment) = segment {
             // The segment up to the hit (or infinity) in a medium: it may
             // scatter on the way, or pass with its transmittance. (Out of
             // line: scenes without media never come here.)
@@ -412,7 +405,7 @@ impl PathIntegrator {
                 depth: path.depth,
                 any_non_specular: path.any_non_specular,
             };
-            match self.medium_segment(scene, m, &ray, t_max, u, at, sampler, stats) {
+            match self.medium_segment(scene, segment.medium, &ray, t_max, segment.u, at, sampler, stats) {
                 MediumStep::Pass(weight) => {
                     path.beta *= weight;
                     if path.beta.max_element() <= 0.0 || !path.beta.is_finite() {
