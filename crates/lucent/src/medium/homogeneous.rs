@@ -47,6 +47,28 @@ pub struct HomogeneousMedium {
     phase: HenyeyGreenstein,
 }
 
+/// Where a path collides in a medium, drawn before the segment is sampled
+/// ([`HomogeneousMedium::free_flight`]): drawn once, it both bounds the
+/// segment's ray query and samples the segment
+/// ([`HomogeneousMedium::sample_flight`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FreeFlight {
+    /// The channel probabilities.
+    p: Color,
+    /// The distance to the collision.
+    t: f32,
+}
+
+impl FreeFlight {
+    /// The distance along the ray (in units of its direction, which must
+    /// be unit) at which the path collides in the medium, if it reaches no
+    /// surface first: infinite where it cannot collide.
+    #[inline]
+    pub fn distance(&self) -> f32 {
+        self.t
+    }
+}
+
 /// What happened to a ray segment in a medium ([`HomogeneousMedium::sample`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum MediumEvent {
@@ -134,15 +156,24 @@ impl HomogeneousMedium {
         Color::new(tr(self.sigma_t.x, d), tr(self.sigma_t.y, d), tr(self.sigma_t.z, d))
     }
 
-    /// The channel probabilities for a path of throughput `beta` (∝ β,
-    /// uniform where β is not usable) and the free-flight distance drawn
-    /// with `u_channel` and `u_distance`: the distance to the next
-    /// collision in the chosen channel, infinite where its σₜ is 0.
+    /// The free flight of a path of throughput `beta` in this medium,
+    /// drawn with `u_channel` and `u_distance`: a channel with probability
+    /// ∝ β (uniform where β is not usable), then the distance to the next
+    /// collision in that channel, infinite where its σₜ is 0, or for a
+    /// medium that needs no distances. [`HomogeneousMedium::sample_flight`]
+    /// scatters exactly where [`FreeFlight::distance`] is below its
+    /// `t_max`, at that distance. So a path needs the surface it would
+    /// reach only when that surface is no farther: a ray query bounded by
+    /// the distance (inclusively) finds the surface or, where the path
+    /// collides in the medium first, nothing (and builds no hit record).
     #[inline]
-    fn flight(&self, beta: Color, u_channel: f32, u_distance: f32) -> (Color, f32) {
+    pub fn free_flight(&self, beta: Color, u_channel: f32, u_distance: f32) -> FreeFlight {
         let b = beta.max(Color::ZERO);
         let sum = b.x + b.y + b.z;
         let p = if sum > 0.0 && sum.is_finite() { b / sum } else { Color::splat(1.0 / 3.0) };
+        if !self.samples_distances() {
+            return FreeFlight { p, t: f32::INFINITY };
+        }
         let c = if u_channel < p.x {
             0
         } else if u_channel < p.x + p.y || p.z == 0.0 {
@@ -152,33 +183,24 @@ impl HomogeneousMedium {
         };
         let sigma = self.sigma_t[c];
         let t = if sigma > 0.0 { -(1.0 - u_distance).ln() / sigma } else { f32::INFINITY };
-        (p, t)
-    }
-
-    /// The distance along the ray within which [`HomogeneousMedium::sample`]
-    /// with the same `beta`, `u_channel` and `u_distance` scatters: it
-    /// returns `Scatter` exactly when this is below its `t_max` (infinite
-    /// for a medium that needs no distances). So a path needs the surface
-    /// it would reach only when that surface is no farther than this: a
-    /// ray query bounded by it (inclusively) finds the surface or, where
-    /// the path collides in the medium first, nothing (and builds no hit
-    /// record).
-    #[inline]
-    pub fn free_flight(&self, beta: Color, u_channel: f32, u_distance: f32) -> f32 {
-        if !self.samples_distances() {
-            return f32::INFINITY;
-        }
-        self.flight(beta, u_channel, u_distance).1
+        FreeFlight { p, t }
     }
 
     /// Sample the ray segment `[0, t_max)` (unit direction; `t_max` may be
     /// infinite) for a path of throughput `beta`, with uniform `u_channel`
-    /// and `u_distance` (see the module docs).
+    /// and `u_distance` (see the module docs): [`HomogeneousMedium::sample_flight`]
+    /// of their [`HomogeneousMedium::free_flight`].
     pub fn sample(&self, t_max: f32, beta: Color, u_channel: f32, u_distance: f32) -> MediumEvent {
+        self.sample_flight(self.free_flight(beta, u_channel, u_distance), t_max)
+    }
+
+    /// The segment `[0, t_max)` sampled with a free flight drawn before
+    /// (by a caller that bounded its ray query with it).
+    pub fn sample_flight(&self, flight: FreeFlight, t_max: f32) -> MediumEvent {
         if !self.samples_distances() {
             return MediumEvent::Pass { weight: self.transmittance(t_max) };
         }
-        let (p, t) = self.flight(beta, u_channel, u_distance);
+        let FreeFlight { p, t } = flight;
         if t < t_max {
             let tr = self.transmittance(t);
             // Mixture density of distances: Σ p_c σₜ,c T_c(t).
@@ -310,7 +332,7 @@ mod tests {
             for &beta in &betas {
                 for _ in 0..2_000 {
                     let (uc, ud) = (rng.uniform(), rng.uniform());
-                    let flight = m.free_flight(beta, uc, ud);
+                    let flight = m.free_flight(beta, uc, ud).distance();
                     assert!(flight >= 0.0, "{flight}");
                     let t_max = if rng.uniform() < 0.1 { f32::INFINITY } else { 5.0 * rng.uniform() };
                     match m.sample(t_max, beta, uc, ud) {

@@ -21,7 +21,7 @@ mod homogeneous;
 mod phase;
 mod presets;
 
-pub use homogeneous::{HomogeneousMedium, MediumEvent};
+pub use homogeneous::{FreeFlight, HomogeneousMedium, MediumEvent};
 pub use phase::HenyeyGreenstein;
 pub use presets::{measured_medium, measured_medium_names};
 
@@ -45,12 +45,22 @@ impl Medium {
         }
     }
 
-    /// The distance within which [`Medium::sample`] with the same samples
-    /// scatters (see [`HomogeneousMedium::free_flight`]).
+    /// Where a path of throughput `beta` collides in the medium, drawn
+    /// with `u_channel` and `u_distance` (see
+    /// [`HomogeneousMedium::free_flight`]).
     #[inline]
-    pub fn free_flight(&self, beta: Color, u_channel: f32, u_distance: f32) -> f32 {
+    pub fn free_flight(&self, beta: Color, u_channel: f32, u_distance: f32) -> FreeFlight {
         match self {
             Medium::Homogeneous(m) => m.free_flight(beta, u_channel, u_distance),
+        }
+    }
+
+    /// Sample a ray segment `[0, t_max)` with a free flight drawn before
+    /// (see [`HomogeneousMedium::sample_flight`]).
+    #[inline]
+    pub fn sample_flight(&self, flight: FreeFlight, t_max: f32) -> MediumEvent {
+        match self {
+            Medium::Homogeneous(m) => m.sample_flight(flight, t_max),
         }
     }
 

@@ -349,15 +349,15 @@ fn random_walk(
     let mut added = 0;
     let mut skips = 0;
     while added < max_vertices {
-        // In a medium, the segment's samples first: its free flight bounds
-        // the query (as in the path tracer's surface stage).
+        // In a medium, the segment's free flight first: it bounds the
+        // query (as in the path tracer's surface stage).
         let segment = MediumSegment::draw(scene, medium, beta, sampler);
         let hit = scene.intersect(&ray, MediumSegment::query_bound(segment));
         // The segment through a medium: scatter in it, or pass with its
         // transmittance.
-        if let Some(MediumSegment { medium: m, u: (u_channel, u_distance), .. }) = segment {
+        if let Some(MediumSegment { medium: m, flight }) = segment {
             let t_max = hit.as_ref().map_or(f32::INFINITY, |si| si.t);
-            match scene.medium(m).sample(t_max, beta, u_channel, u_distance) {
+            match scene.medium(m).sample_flight(flight, t_max) {
                 MediumEvent::Pass { weight } => beta *= weight,
                 MediumEvent::Scatter { t, weight, emission } => {
                     if mode == TransportMode::Radiance {

@@ -389,8 +389,8 @@ impl PathIntegrator {
         stats: &mut RayStats,
     ) -> Surface {
         let ray = path.ray;
-        // In a medium, the segment's samples first: its free flight bounds
-        // the query, so that a path that collides before reaching a surface
+        // In a medium, the segment's free flight first: it bounds the
+        // query, so that a path that collides before reaching a surface
         // (most paths in a dense medium) builds no hit record.
         let segment = MediumSegment::draw(scene, path.medium, path.beta, sampler);
         scene.intersect_into(&ray, MediumSegment::query_bound(segment), hit);
@@ -405,7 +405,7 @@ impl PathIntegrator {
                 depth: path.depth,
                 any_non_specular: path.any_non_specular,
             };
-            match self.medium_segment(scene, segment.medium, &ray, t_max, segment.u, at, sampler, stats) {
+            match self.medium_segment(scene, segment.medium, &ray, t_max, segment.flight, at, sampler, stats) {
                 MediumStep::Pass(weight) => {
                     path.beta *= weight;
                     if path.beta.max_element() <= 0.0 || !path.beta.is_finite() {

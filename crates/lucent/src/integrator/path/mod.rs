@@ -14,7 +14,7 @@ use crate::geometry::{Ray, Vec3};
 use crate::interaction::SurfaceInteraction;
 use crate::light::{LiSample, LightSampleContext};
 use crate::material::{Material, MaterialContext};
-use crate::medium::{HenyeyGreenstein, MediumEvent, MediumId};
+use crate::medium::{FreeFlight, HenyeyGreenstein, MediumEvent, MediumId};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -469,9 +469,9 @@ impl PathIntegrator {
     /// A ray segment `[0, t_max)` in `medium`: whether and where the path
     /// scatters, and at a scattering point, the light sampled there (next-
     /// event estimation with the phase function) and the direction the
-    /// phase function continues in (see the type's docs). `u` is the
-    /// segment's channel and distance samples, which the caller drew
-    /// before its ray query (bounded by `Medium::free_flight` of them).
+    /// phase function continues in (see the type's docs). `flight` is the
+    /// segment's free flight, which the caller drew before its ray query
+    /// and bounded the query with.
     /// Out of line: only scenes with media call it.
     #[allow(clippy::too_many_arguments)]
     #[inline(never)]
@@ -481,14 +481,14 @@ impl PathIntegrator {
         medium: MediumId,
         ray: &Ray,
         t_max: f32,
-        (u_channel, u_distance): (f32, f32),
+        flight: FreeFlight,
         at: PathVertexState,
         sampler: &mut Sampler,
         stats: &mut RayStats,
     ) -> MediumStep {
         let PathVertexState { beta, eta_scale, depth, any_non_specular } = at;
         let m = scene.medium(medium);
-        let (t, weight, emission) = match m.sample(t_max, beta, u_channel, u_distance) {
+        let (t, weight, emission) = match m.sample_flight(flight, t_max) {
             MediumEvent::Pass { weight } => return MediumStep::Pass(weight),
             MediumEvent::Scatter { t, weight, emission } => (t, weight, emission),
         };
