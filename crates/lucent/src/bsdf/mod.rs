@@ -389,6 +389,20 @@ impl Bxdf {
         let etap = if wo.z > 0.0 { eta } else { 1.0 / eta };
         1.0 / (etap * etap)
     }
+
+    /// Whether [`BxDF::f`] for the local pair (`wo`, `wi`) costs more than
+    /// a shadow ray, so that a light sample is better tested for
+    /// visibility before the BSDF is evaluated: true for the coated BxDFs,
+    /// whose `f` and `pdf` are random walks through the layers (see
+    /// [`CoatedDiffuseBxdf`]), on a pair that may reflect; false for every
+    /// other BxDF, and for a coated pair on opposite sides of the surface
+    /// (they reflect only: `f` is 0 there without a walk). Either order
+    /// gives the same value: a walk's random numbers are a hash of its
+    /// pair.
+    #[inline]
+    pub fn f_costs_more_than_a_ray(&self, wo: Vec3, wi: Vec3) -> bool {
+        matches!(self, Self::CoatedDiffuse(_) | Self::CoatedConductor(_)) && same_hemisphere(wo, wi)
+    }
 }
 
 /// Whether two local directions are strictly on the same side of the

@@ -1804,3 +1804,40 @@ fn metallic_roughness_clearcoat_and_sheen_follow_the_layering() {
     let want = Color::new(0.2, 0.4, 0.6) * super::sheen::brdf(wo, wi, 0.5) + Color::splat(s / std::f32::consts::PI);
     assert!((b.f(wo, wi) - want).abs().max_element() < 1e-6);
 }
+
+/// Light sampling tests visibility before a BxDF whose value costs more
+/// than a shadow ray (`Bxdf::f_costs_more_than_a_ray`): that is every
+/// coated BxDF on a pair that may reflect, and nothing else; where a
+/// coated pair is answered `false`, its value and density are 0 (so
+/// skipping the ray loses nothing); and a coated value is the same bits
+/// whenever it is asked for (its walk's random numbers are a hash of the
+/// pair), so evaluating it after the ray changes no image.
+#[test]
+fn only_coated_pairs_that_may_reflect_cost_more_than_a_ray() {
+    let mut rng = Pcg32::new(29, 3);
+    let coated = [
+        coated_diffuse(Color::new(0.7, 0.4, 0.2), 0.1, Color::ZERO, 10),
+        coated_diffuse(Color::new(0.3, 0.6, 0.2), 0.3, Color::new(0.5, 0.5, 0.5), 10),
+        coated_conductor(Color::new(0.9, 0.6, 0.3), 0.0, 0.2),
+    ];
+    let mut walked = 0;
+    for _ in 0..2000 {
+        let (wo, wi) = (random_wo(&mut rng), random_wo(&mut rng));
+        for (name, b) in all_bxdfs() {
+            assert!(!b.f_costs_more_than_a_ray(wo, wi), "{name}");
+        }
+        for b in &coated {
+            let dear = b.f_costs_more_than_a_ray(wo, wi);
+            assert_eq!(dear, wo.z * wi.z > 0.0, "{wo} {wi}");
+            let (f, pdf) = (b.f(wo, wi), b.pdf(wo, wi));
+            if dear {
+                walked += 1;
+                assert_eq!(b.f(wo, wi).to_array().map(f32::to_bits), f.to_array().map(f32::to_bits));
+                assert_eq!(b.pdf(wo, wi).to_bits(), pdf.to_bits());
+            } else {
+                assert_eq!((f, pdf), (Color::ZERO, 0.0), "{wo} {wi}");
+            }
+        }
+    }
+    assert!(walked > 2000, "{walked}");
+}

@@ -383,13 +383,26 @@ impl PathIntegrator {
         // Both directions in the shading frame once, for the BSDF's value,
         // the cosine (the local z) and the pdf ([`Bsdf::f`], [`Bsdf::pdf`]).
         let (wo_local, wi_local) = (bsdf.frame().to_local(wo), bsdf.frame().to_local(ls.wi));
+        // The BSDF's value before the shadow ray, which spares the ray
+        // where the value is 0; the ray first where the value is the
+        // dearer of the two (a coated BSDF's random walk), so that an
+        // occluded sample does not pay for the walk.
+        let visibility_first = bsdf.bxdf().f_costs_more_than_a_ray(wo_local, wi_local);
+        if visibility_first {
+            stats.shadow += 1;
+            if occluded(scene, si, ls.p_light, ls.wi, interfaces) {
+                return Color::ZERO;
+            }
+        }
         let f = bsdf.bxdf().f(wo_local, wi_local) * wi_local.z.abs();
         if f.max_element() <= 0.0 {
             return Color::ZERO;
         }
-        stats.shadow += 1;
-        if occluded(scene, si, ls.p_light, ls.wi, interfaces) {
-            return Color::ZERO;
+        if !visibility_first {
+            stats.shadow += 1;
+            if occluded(scene, si, ls.p_light, ls.wi, interfaces) {
+                return Color::ZERO;
+            }
         }
         let p_light = pmf * ls.pdf;
         if delta || self.direct == DirectLighting::LightsOnly {
@@ -428,15 +441,29 @@ impl PathIntegrator {
         if ls.pdf <= 0.0 || ls.l.max_element() <= 0.0 {
             return Color::ZERO;
         }
-        let (f, p_scatter) = match vertex {
+        // The scattering function's value and density towards the light;
+        // after the shadow ray where they are the dearer of the two (see
+        // `weigh_light_sample`).
+        let scatter = || match vertex {
             Scatterer::Surface(_, bsdf) => (bsdf.f(wo, ls.wi) * ls.wi.dot(bsdf.frame().z).abs(), bsdf.pdf(wo, ls.wi)),
             Scatterer::Medium(_, phase) => {
                 let p = phase.p(wo, ls.wi);
                 (Color::splat(p), p)
             }
         };
-        if f.max_element() <= 0.0 {
-            return Color::ZERO;
+        let visibility_first = match vertex {
+            Scatterer::Surface(_, bsdf) => {
+                bsdf.bxdf().f_costs_more_than_a_ray(bsdf.frame().to_local(wo), bsdf.frame().to_local(ls.wi))
+            }
+            Scatterer::Medium(..) => false,
+        };
+        let mut scattered = None;
+        if !visibility_first {
+            let (f, p) = scatter();
+            if f.max_element() <= 0.0 {
+                return Color::ZERO;
+            }
+            scattered = Some((f, p));
         }
         stats.shadow += 1;
         let (ray, t_max, start) = match vertex {
@@ -457,6 +484,16 @@ impl PathIntegrator {
         if tr.max_element() <= 0.0 {
             return Color::ZERO;
         }
+        let (f, p_scatter) = match scattered {
+            Some(fp) => fp,
+            None => {
+                let (f, p) = scatter();
+                if f.max_element() <= 0.0 {
+                    return Color::ZERO;
+                }
+                (f, p)
+            }
+        };
         let p_light = pmf * ls.pdf;
         if emitter.is_delta() || self.direct == DirectLighting::LightsOnly {
             f * tr * ls.l / p_light
