@@ -179,6 +179,17 @@ impl TriangleMesh {
         self.positions.iter().fold(Bounds3::EMPTY, |b, &p| b.union_point(p))
     }
 
+    /// Whether the mesh has per-vertex data besides positions (normals,
+    /// texture coordinates, colours or tangents), which a hit record
+    /// interpolates through the triangle's vertex indices.
+    pub fn has_vertex_attributes(&self) -> bool {
+        self.normals.is_some()
+            || self.uvs.is_some()
+            || self.uvs1.is_some()
+            || self.colors.is_some()
+            || self.tangents.is_some()
+    }
+
     /// The three corners of triangle `i`.
     #[inline]
     pub fn triangle(&self, i: usize) -> [Vec3; 3] {

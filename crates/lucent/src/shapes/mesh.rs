@@ -251,20 +251,29 @@ impl Mesh {
     /// The surface at barycentrics `b` of triangle `face`, hit at `t`.
     #[inline]
     fn hit_at(&self, t: f32, face: u32, b: [f32; 3]) -> ShapeHit {
-        self.hit_at_corners(t, face, b, self.triangle(face as usize))
+        self.hit_at_corners(t, face, b, self.triangle(face as usize), None)
     }
 
     /// [`Mesh::hit_at`] with the triangle's corners given (as the BVH's leaf
-    /// holds them, the same values): the index buffer is read only where a
-    /// vertex attribute needs it.
+    /// holds them, the same values), and its vertex indices where the leaf
+    /// holds those too: the index buffer is read only where a vertex
+    /// attribute needs the indices and they were not given.
     #[inline(always)]
-    fn hit_at_corners(&self, t: f32, face: u32, b: [f32; 3], [p0, p1, p2]: [Vec3; 3]) -> ShapeHit {
+    fn hit_at_corners(
+        &self,
+        t: f32,
+        face: u32,
+        b: [f32; 3],
+        [p0, p1, p2]: [Vec3; 3],
+        vertices: Option<[u32; 3]>,
+    ) -> ShapeHit {
         let indexed = self.normals.is_some()
             || self.uvs.is_some()
             || self.tangents.is_some()
             || self.uvs1.is_some()
             || self.colors.is_some();
-        let [i0, i1, i2] = if indexed { self.indices[face as usize].map(|i| i as usize) } else { [0; 3] };
+        let [i0, i1, i2] =
+            if indexed { vertices.unwrap_or_else(|| self.indices[face as usize]).map(|i| i as usize) } else { [0; 3] };
         let [b0, b1, b2] = b;
         let p = b0 * p0 + b1 * p1 + b2 * p2;
         let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
@@ -328,7 +337,7 @@ impl Mesh {
     /// up through each layer of the query.
     #[inline(always)]
     pub fn hit_record(&self, hit: &MeshHit) -> ShapeHit {
-        self.hit_at_corners(hit.t, hit.triangle, hit.b, self.bvh.corners(hit))
+        self.hit_at_corners(hit.t, hit.triangle, hit.b, self.bvh.corners(hit), self.bvh.vertices(hit))
     }
 
     /// The nearest hit with `0 < t < t_max`.
@@ -400,6 +409,37 @@ mod tests {
         assert!((h.dpdu - Vec3::new(0.5, 0.0, 0.0)).length() < 1e-6, "{}", h.dpdu);
         assert!((h.dpdv - Vec3::new(0.0, 1.0 / 3.0, 0.0)).length() < 1e-6, "{}", h.dpdv);
         assert!(m.has_uvs() && m.face_index(0).is_none());
+    }
+
+    /// The hit record a query builds from its leaf block (corners, and
+    /// vertex indices on a mesh with attributes) is the one built from the
+    /// mesh's own arrays through the index buffer, bit for bit: normals,
+    /// uvs, tangents, the second uv set and colours interpolated with the
+    /// same vertices.
+    #[test]
+    fn records_from_the_leaf_equal_records_from_the_index_buffer() {
+        let mut rng = crate::sampling::Pcg32::new(13, 4);
+        let mut r = || rng.uniform();
+        let n = 300;
+        let positions: Vec<Vec3> = (0..n).map(|_| Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * 6.0).collect();
+        let indices: Vec<[u32; 3]> = (0..500).map(|_| [0, 1, 2].map(|_| (r() * n as f32) as u32 % n as u32)).collect();
+        let normals = Some((0..n).map(|_| Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5)).collect());
+        let uvs = Some((0..n).map(|_| Vec2::new(r(), r())).collect());
+        let uvs1 = Some((0..n).map(|_| Vec2::new(r(), r())).collect());
+        let colors = Some((0..n).map(|_| Vec4::new(r(), r(), r(), 1.0)).collect());
+        let tangents = Some((0..n).map(|_| Vec4::new(r() - 0.5, r() - 0.5, r() - 0.5, 1.0)).collect());
+        let m =
+            Mesh::new(TriangleMesh { positions, indices, normals, uvs, uvs1, colors, tangents, ..Default::default() })
+                .unwrap();
+        let mut hits = 0;
+        for _ in 0..2000 {
+            let o = Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * 14.0;
+            let ray = Ray::new(o, Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * 4.0 - o);
+            let Some(hit) = m.intersect_triangle(&ray, f32::INFINITY) else { continue };
+            assert_eq!(m.hit_record(&hit), m.hit_at(hit.t, hit.triangle, hit.b), "ray {ray:?}");
+            hits += 1;
+        }
+        assert!(hits > 500, "only {hits} hits");
     }
 
     #[test]

@@ -38,14 +38,112 @@ impl MeshHit {
 ///
 /// Each leaf's triangles are copied out of the index buffer into one
 /// [`TriangleBlock`] (160 bytes: coordinates by lane, and the triangles'
-/// indices), so a leaf is tested with one pass of SIMD arithmetic and needs
-/// no index indirection. Zero-area triangles are left out: no ray can hit
-/// them.
+/// numbers), so a leaf is tested with one pass of SIMD arithmetic and needs
+/// no index indirection. For a mesh with per-vertex attributes the block
+/// also holds its triangles' vertex indices ([`LeafBlocks`]). Zero-area
+/// triangles are left out: no ray can hit them.
 #[derive(Clone, Debug, Default)]
 pub struct MeshBvh {
     bvh: Bvh,
-    blocks: PageArray<TriangleBlock>,
+    blocks: LeafBlocks,
     triangle_count: usize,
+}
+
+/// The leaf blocks of a [`MeshBvh`], in leaf order.
+///
+/// A hit record on a mesh with normals, texture coordinates, colours or
+/// tangents interpolates them through the hit triangle's three vertex
+/// indices. Read from the mesh's index buffer, at a place in memory
+/// unrelated to the leaf just tested, that load missed the caches on large
+/// meshes and the record waited for it (and then for the attributes it
+/// names): about a third of the hit record's time on the bunnies and on
+/// Bitterli's kitchen. Such a mesh's blocks carry the indices with them
+/// (`Indexed`, 224 bytes), so that they arrive with the block; a mesh of
+/// positions only has no use for them and keeps the 160-byte blocks.
+#[derive(Clone, Debug)]
+enum LeafBlocks {
+    /// Blocks of corners and triangle numbers.
+    Plain(PageArray<TriangleBlock>),
+    /// The same blocks, each followed by its triangles' vertex indices.
+    Indexed(PageArray<IndexedBlock>),
+}
+
+/// A [`TriangleBlock`] and the vertex indices of its four lanes' triangles
+/// (unused lanes repeat the first, as in the block). 224 bytes, aligned to
+/// 32: the corners the triangle test reads still span three cache lines,
+/// and the indices follow on the next.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(32))]
+struct IndexedBlock {
+    block: TriangleBlock,
+    vertices: [[u32; 3]; 4],
+}
+
+const _: () = assert!(std::mem::size_of::<IndexedBlock>() == 224);
+
+// SAFETY: a block of floats and integers, and integers.
+unsafe impl crate::accel::ZeroIsValid for IndexedBlock {}
+
+/// A leaf block as the traversal reads it: its triangles.
+trait LeafBlock {
+    /// The block's corners and triangle numbers.
+    fn triangles(&self) -> &TriangleBlock;
+}
+
+impl LeafBlock for TriangleBlock {
+    #[inline(always)]
+    fn triangles(&self) -> &TriangleBlock {
+        self
+    }
+}
+
+impl LeafBlock for IndexedBlock {
+    #[inline(always)]
+    fn triangles(&self) -> &TriangleBlock {
+        &self.block
+    }
+}
+
+impl Default for LeafBlocks {
+    fn default() -> Self {
+        Self::Plain(PageArray::default())
+    }
+}
+
+impl LeafBlocks {
+    /// Block `i`'s corners and triangle numbers.
+    #[inline(always)]
+    fn block(&self, i: u32) -> &TriangleBlock {
+        match self {
+            Self::Plain(blocks) => &blocks[i as usize],
+            Self::Indexed(blocks) => &blocks[i as usize].block,
+        }
+    }
+
+    /// The address of block `i`, for a prefetch (not dereferenced).
+    #[inline(always)]
+    fn address(&self, i: u32) -> *const u8 {
+        match self {
+            Self::Plain(blocks) => blocks.as_ptr().wrapping_add(i as usize).cast(),
+            Self::Indexed(blocks) => blocks.as_ptr().wrapping_add(i as usize).cast(),
+        }
+    }
+
+    /// Heap bytes.
+    fn memory_bytes(&self) -> usize {
+        match self {
+            Self::Plain(blocks) => blocks.len() * std::mem::size_of::<TriangleBlock>(),
+            Self::Indexed(blocks) => blocks.len() * std::mem::size_of::<IndexedBlock>(),
+        }
+    }
+
+    /// Whether the blocks are on memory advised for huge pages.
+    fn is_mapped(&self) -> bool {
+        match self {
+            Self::Plain(blocks) => blocks.is_mapped(),
+            Self::Indexed(blocks) => blocks.is_mapped(),
+        }
+    }
 }
 
 impl MeshBvh {
@@ -68,17 +166,33 @@ impl MeshBvh {
             leaves.len() as u32 - 1
         });
         let primitives = bvh.primitives();
-        let mut blocks = PageArray::zeroed(leaves.len());
-        blocks.par_iter_mut().zip(leaves.par_iter()).with_min_len(256).for_each(|(block, &(first, count))| {
+        let leaf = |&(first, count): &(u32, u32)| &primitives[first as usize..(first + count) as usize];
+        let block_of = |leaf: &[u32]| {
             // On the stack: a heap list per block was one allocation per
             // four triangles.
             let mut tris = [([Vec3::ZERO; 3], 0u32); MAX_LEAF_SIZE];
-            let leaf = &primitives[first as usize..(first + count) as usize];
             for (slot, &i) in tris.iter_mut().zip(leaf) {
                 *slot = (mesh.triangle(i as usize), i);
             }
-            *block = TriangleBlock::new(&tris[..leaf.len()]);
-        });
+            TriangleBlock::new(&tris[..leaf.len()])
+        };
+        let blocks = if mesh.has_vertex_attributes() {
+            let mut blocks = PageArray::zeroed(leaves.len());
+            blocks.par_iter_mut().zip(leaves.par_iter()).with_min_len(256).for_each(|(block, range)| {
+                let leaf = leaf(range);
+                // (Unused lanes repeat the first triangle, as the block.)
+                let vertices =
+                    std::array::from_fn(|lane| mesh.indices[leaf[if lane < leaf.len() { lane } else { 0 }] as usize]);
+                *block = IndexedBlock { block: block_of(leaf), vertices };
+            });
+            LeafBlocks::Indexed(blocks)
+        } else {
+            let mut blocks = PageArray::zeroed(leaves.len());
+            blocks.par_iter_mut().zip(leaves.par_iter()).with_min_len(256).for_each(|(block, range)| {
+                *block = block_of(leaf(range));
+            });
+            LeafBlocks::Plain(blocks)
+        };
         bvh.clear_primitives();
         Self { bvh, blocks, triangle_count }
     }
@@ -102,7 +216,7 @@ impl MeshBvh {
 
     /// Heap bytes: nodes and triangle blocks.
     pub fn memory_bytes(&self) -> usize {
-        self.bvh.memory_bytes() + self.blocks.len() * std::mem::size_of::<TriangleBlock>()
+        self.bvh.memory_bytes() + self.blocks.memory_bytes()
     }
 
     /// Whether the triangle blocks are on memory advised for 2 MiB pages
@@ -112,11 +226,11 @@ impl MeshBvh {
         self.blocks.is_mapped()
     }
 
-    /// Start loading block `b` into the caches (its 160 bytes span three
+    /// Start loading block `b`'s corners into the caches (they span three
     /// cache lines).
     #[inline(always)]
     fn prefetch_block(&self, b: u32) {
-        prefetch(self.blocks.as_ptr().wrapping_add(b as usize), 3);
+        prefetch(self.blocks.address(b), 3);
     }
 
     /// The corners of the triangle of `hit`, as its leaf block holds them:
@@ -124,13 +238,24 @@ impl MeshBvh {
     /// has just tested (in the cache) rather than through the index buffer.
     #[inline(always)]
     pub(crate) fn corners(&self, hit: &MeshHit) -> [Vec3; 3] {
-        let (block, lane) = (&self.blocks[hit.block as usize], hit.lane as usize & 3);
+        let (block, lane) = (self.blocks.block(hit.block), hit.lane as usize & 3);
         // (`as_ref` indexing: a variable index into a glam vector is a
         // chain of branches.)
         std::array::from_fn(|c| {
             let [x, y, z] = &block.p[c];
             Vec3::new(x.as_ref()[lane], y.as_ref()[lane], z.as_ref()[lane])
         })
+    }
+
+    /// The vertex indices of the triangle of `hit`, from its leaf block
+    /// where the mesh has vertex attributes (see [`LeafBlocks`]); `None`
+    /// for a mesh of positions only.
+    #[inline(always)]
+    pub(crate) fn vertices(&self, hit: &MeshHit) -> Option<[u32; 3]> {
+        match &self.blocks {
+            LeafBlocks::Plain(_) => None,
+            LeafBlocks::Indexed(blocks) => Some(blocks[hit.block as usize].vertices[hit.lane as usize & 3]),
+        }
     }
 
     /// The closest hit with `t ∈ [t_min, t_max]`.
@@ -189,6 +314,30 @@ impl MeshBvh {
         t_min: f32,
         t_max: f32,
     ) -> Option<MeshHit> {
+        // One traversal for each kind of block, chosen once per query
+        // rather than at every leaf.
+        // SAFETY: passed on from the caller.
+        unsafe {
+            match &self.blocks {
+                LeafBlocks::Plain(blocks) => self.intersect_in::<AVX, BUILD, _>(blocks, ray, t_min, t_max),
+                LeafBlocks::Indexed(blocks) => self.intersect_in::<AVX, BUILD, _>(blocks, ray, t_min, t_max),
+            }
+        }
+    }
+
+    /// [`MeshBvh::intersect_as`] over the leaf blocks `blocks` (`BUILD` as
+    /// there).
+    ///
+    /// # Safety
+    /// With `AVX`, the CPU must have AVX.
+    #[inline(always)]
+    unsafe fn intersect_in<const AVX: bool, const BUILD: u8, B: LeafBlock>(
+        &self,
+        blocks: &[B],
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<MeshHit> {
         let box_ray = BoxRay::new(ray.origin, ray.dir);
         let tri_ray = WatertightRay::new(ray);
         let mut t_max = t_max;
@@ -199,9 +348,9 @@ impl MeshBvh {
                 &box_ray,
                 t_min,
                 &mut t_max,
-                |b| self.prefetch_block(b),
+                |b| prefetch(blocks.as_ptr().wrapping_add(b as usize), 3),
                 |index, _, t_max| {
-                    let block = &self.blocks[index as usize];
+                    let block = blocks[index as usize].triangles();
                     match intersect_block(&tri_ray, block, t_min, *t_max) {
                         Some((lane, h)) => {
                             *t_max = h.t;
@@ -240,7 +389,7 @@ impl MeshBvh {
             &mut t_max,
             |b| self.prefetch_block(b),
             |index, _, t_max| {
-                let block = &self.blocks[index as usize];
+                let block = self.blocks.block(index);
                 let found = intersect_block_filtered(&tri_ray, block, t_min, *t_max, |lane, h| {
                     accept(&MeshHit::new(h.t, h.b, block, index, lane))
                 });
@@ -275,7 +424,7 @@ impl MeshBvh {
             t_max,
             |b| self.prefetch_block(b),
             |index, _| {
-                let block = &self.blocks[index as usize];
+                let block = self.blocks.block(index);
                 intersect_block_filtered(&tri_ray, block, t_min, t_max, |lane, h| {
                     accept(&MeshHit::new(h.t, h.b, block, index, lane))
                 })
@@ -334,6 +483,28 @@ impl MeshBvh {
     /// With `AVX`, the CPU must have AVX.
     #[inline(always)]
     unsafe fn occluded_as<const AVX: bool, const BUILD: u8>(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        // SAFETY: passed on from the caller.
+        unsafe {
+            match &self.blocks {
+                LeafBlocks::Plain(blocks) => self.occluded_in::<AVX, BUILD, _>(blocks, ray, t_min, t_max),
+                LeafBlocks::Indexed(blocks) => self.occluded_in::<AVX, BUILD, _>(blocks, ray, t_min, t_max),
+            }
+        }
+    }
+
+    /// [`MeshBvh::occluded_as`] over the leaf blocks `blocks` (`BUILD` as
+    /// there).
+    ///
+    /// # Safety
+    /// With `AVX`, the CPU must have AVX.
+    #[inline(always)]
+    unsafe fn occluded_in<const AVX: bool, const BUILD: u8, B: LeafBlock>(
+        &self,
+        blocks: &[B],
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> bool {
         let box_ray = BoxRay::new(ray.origin, ray.dir);
         let tri_ray = WatertightRay::new(ray);
         // SAFETY: passed on from the caller.
@@ -342,8 +513,8 @@ impl MeshBvh {
                 &box_ray,
                 t_min,
                 t_max,
-                |b| self.prefetch_block(b),
-                |block, _| intersect_block(&tri_ray, &self.blocks[block as usize], t_min, t_max).is_some(),
+                |b| prefetch(blocks.as_ptr().wrapping_add(b as usize), 3),
+                |index, _| intersect_block(&tri_ray, blocks[index as usize].triangles(), t_min, t_max).is_some(),
             )
         }
     }
@@ -428,6 +599,46 @@ mod tests {
             hits += any as usize;
         }
         assert!(hits > rays / 10, "only {hits} hits");
+    }
+
+    /// A mesh with vertex attributes keeps each triangle's vertex indices
+    /// in its leaf blocks: for every hit they are the mesh's own (on a mesh
+    /// whose vertices are shared at random, so the indices are not the
+    /// triangle's number in disguise). The tree and its answers are those
+    /// of the same mesh without attributes, whose blocks hold no indices
+    /// and cost 64 bytes less each.
+    #[test]
+    fn blocks_of_a_mesh_with_attributes_hold_its_vertex_indices() {
+        let mut rng = Pcg32::new(41, 9);
+        let mut v = |s: f32| Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * (2.0 * s);
+        let positions: Vec<Vec3> = (0..600).map(|_| v(4.0)).collect();
+        let mut rng = Pcg32::new(5, 2);
+        let mut pick = || (rng.uniform() * 600.0) as u32 % 600;
+        let indices: Vec<[u32; 3]> = (0..900).map(|_| [pick(), pick(), pick()]).collect();
+        let plain = TriangleMesh { positions: positions.clone(), indices: indices.clone(), ..TriangleMesh::default() };
+        let normals = Some(positions.iter().map(|p| p.normalize_or_zero()).collect());
+        let attributed = TriangleMesh { normals, ..plain.clone() };
+        assert!(!plain.has_vertex_attributes() && attributed.has_vertex_attributes());
+        let (a, b) = (MeshBvh::build(&plain), MeshBvh::build(&attributed));
+        let extra = b.memory_bytes() - a.memory_bytes();
+        assert!(extra > 0 && extra % 64 == 0, "{extra}");
+        let mut rng = Pcg32::new(77, 1);
+        let mut v = |s: f32| Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * (2.0 * s);
+        let mut hits = 0;
+        for _ in 0..3000 {
+            let origin = v(8.0);
+            let ray = Ray::new(origin, v(3.0) - origin);
+            let (ha, hb) = (a.intersect(&ray, 0.0, f32::INFINITY), b.intersect(&ray, 0.0, f32::INFINITY));
+            assert_eq!(ha, hb, "ray {ray:?}");
+            if let (Some(ha), Some(hb)) = (ha, hb) {
+                assert_eq!(a.vertices(&ha), None);
+                assert_eq!(b.vertices(&hb), Some(indices[hb.triangle as usize]), "ray {ray:?}");
+                assert_eq!(b.corners(&hb), attributed.triangle(hb.triangle as usize));
+                hits += 1;
+            }
+            assert_eq!(a.occluded(&ray, 0.0, 2.0), b.occluded(&ray, 0.0, 2.0), "ray {ray:?}");
+        }
+        assert!(hits > 1000, "only {hits} hits");
     }
 
     #[test]
