@@ -62,6 +62,10 @@ pub struct Mesh {
     face_indices: Option<Vec<u32>>,
     material_ids: Option<Vec<u32>>,
     default_uv: DefaultUv,
+    /// Whether a hit record reads per-vertex data through the triangle's
+    /// vertex indices ([`TriangleMesh::has_vertex_attributes`]; the BVH's
+    /// leaf blocks then hold the indices).
+    indexed: bool,
     bvh: MeshBvh,
     degenerate: usize,
 }
@@ -108,6 +112,7 @@ impl Mesh {
             }
         }
         let bvh = MeshBvh::build(&mesh);
+        let indexed = mesh.has_vertex_attributes();
         let degenerate = mesh.indices.len() - bvh.triangle_count();
         // Normals of zero length cannot shade; normalise the rest once here.
         // One already of unit length (to rounding) is kept as it is, so that
@@ -126,6 +131,7 @@ impl Mesh {
             face_indices: mesh.face_indices,
             material_ids: mesh.material_ids,
             default_uv: DefaultUv::Barycentric,
+            indexed,
             bvh,
             degenerate,
         })
@@ -267,13 +273,11 @@ impl Mesh {
         [p0, p1, p2]: [Vec3; 3],
         vertices: Option<[u32; 3]>,
     ) -> ShapeHit {
-        let indexed = self.normals.is_some()
-            || self.uvs.is_some()
-            || self.tangents.is_some()
-            || self.uvs1.is_some()
-            || self.colors.is_some();
-        let [i0, i1, i2] =
-            if indexed { vertices.unwrap_or_else(|| self.indices[face as usize]).map(|i| i as usize) } else { [0; 3] };
+        let [i0, i1, i2] = if self.indexed {
+            vertices.unwrap_or_else(|| self.indices[face as usize]).map(|i| i as usize)
+        } else {
+            [0; 3]
+        };
         let [b0, b1, b2] = b;
         let p = b0 * p0 + b1 * p1 + b2 * p2;
         let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
